@@ -1,0 +1,21 @@
+# uavdamp: semi-active vibration isolation of a UAV camera platform (after Marichal et al. 2014).
+# Thin on purpose: stages live in workflow/rules/*.smk, logic in src/uavdamp.
+from snakemake.utils import min_version, validate
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+rule all:
+    default_target: True
+    input:
+        "reports/helicopter/vibration.nc",
+        "reports/figures/fuselage_vibration.png",
+
+
+include: "workflow/rules/helicopter.smk"

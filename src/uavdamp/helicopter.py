@@ -1,0 +1,413 @@
+"""Multibody rotorcraft in Exudyn: 6-DOF fuselage, articulated main rotor, two-blade tail rotor.
+
+Frame: x forward, y left, z up; origin at the fuselage centre of mass. The whole helicopter is
+one Exudyn kinematic tree in minimal coordinates:
+
+    links 0-5  PrismaticX, PrismaticY, PrismaticZ, RevoluteX, RevoluteY, RevoluteZ (fuselage on 5)
+    link 6     main hub, RevoluteZ, `hub_height` above the fuselage centre of mass
+    per blade  flap (RevoluteY at the hinge offset), lag (RevoluteZ), feather (RevoluteX, the blade)
+    last link  tail hub, RevoluteY at `position`, carrying the tail blades rigidly
+
+Rotor speeds are prescribed exactly by velocity-level coordinate constraints on the hub
+coordinates (relative to the fuselage), not by a penalty servo. Hinge springs and dampers are
+the tree's joint PD terms. No gravity, no aerodynamics: the only excitation is a blade mass
+imbalance. The fuselage starts with the velocity that makes the total linear momentum zero.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import exudyn as exu
+import exudyn.itemInterface as eii
+import numpy as np
+import xarray as xr
+from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ, TreeLink
+
+from uavdamp import spectrum
+
+FUSELAGE_LINK = 5
+HUB_LINK = 6
+AXES = ("x", "y", "z")
+
+
+@dataclass(frozen=True)
+class MainRotor:
+    """Articulated main rotor of uniform-rod blades.
+
+    blade_inertia: principal inertia at a blade's centre of mass in the paper's blade axes
+    (x chordwise, y along the blade, z normal to the disc), kg m^2.
+    """
+
+    n_blades: int
+    blade_mass: float  # kg
+    blade_length: float  # m, from the hinge to the tip
+    blade_inertia: tuple[float, float, float]  # kg m^2
+    omega_rad_s: float
+    hub_height: float  # m above the fuselage centre of mass
+    hinge_offset: float  # m, flap and lag hinges at the same radius
+    flap_stiffness: float  # N m rad-1
+    flap_damping: float  # N m s rad-1
+    lag_stiffness: float  # N m rad-1
+    lag_damping: float  # N m s rad-1
+    feather_stiffness: float  # N m rad-1 (pitch-link stiffness)
+    feather_damping: float  # N m s rad-1
+
+
+@dataclass(frozen=True)
+class TailRotor:
+    """Tail rotor of rigid blades spinning about the lateral (y) axis at `position` (m)."""
+
+    n_blades: int
+    blade_mass: float  # kg
+    blade_length: float  # m
+    blade_inertia: tuple[float, float, float]  # kg m^2, paper's blade axes
+    omega_rad_s: float
+    position: tuple[float, float, float]  # m, hub in the fuselage frame
+
+
+@dataclass(frozen=True)
+class Helicopter:
+    """The rotorcraft's parameters (SI units)."""
+
+    fuselage_mass: float  # kg
+    fuselage_inertia: tuple[float, float, float]  # Ixx, Iyy, Izz at the centre of mass, kg m^2
+    fuselage_inertia_xz: float  # inertia-tensor entry (x, z), kg m^2
+    main_rotor: MainRotor
+    tail_rotor: TailRotor
+    imbalanced_blade: int
+    imbalance_mass_factor: float  # mass (and inertia) scale of the imbalanced blade
+    mount_point: tuple[float, float, float]  # m, platform mount in the fuselage frame
+
+    @classmethod
+    def from_config(cls, cfg: dict) -> "Helicopter":
+        """Build from the config's `helicopter` section (keys and units: the config schema)."""
+        fus, imb = cfg["fuselage"], cfg["imbalance"]
+        heli = cls(
+            fuselage_mass=float(fus["mass"]),
+            fuselage_inertia=_floats(fus["inertia"]),
+            fuselage_inertia_xz=float(fus["inertia_xz"]),
+            main_rotor=MainRotor(**_rotor_kwargs(cfg["main_rotor"], MainRotor)),
+            tail_rotor=TailRotor(**_rotor_kwargs(cfg["tail_rotor"], TailRotor)),
+            imbalanced_blade=int(imb["blade"]),
+            imbalance_mass_factor=float(imb["mass_factor"]),
+            mount_point=_floats(cfg["mount_point"]),
+        )
+        heli.validate()
+        return heli
+
+    def validate(self) -> None:
+        """Raise ValueError naming the first physically impossible value."""
+        main, tail = self.main_rotor, self.tail_rotor
+        checks = {
+            "fuselage.mass": self.fuselage_mass > 0,
+            "fuselage.inertia": min(self.fuselage_inertia) > 0,
+            "main_rotor.n_blades": main.n_blades >= 2,
+            "main_rotor.blade_mass": main.blade_mass > 0,
+            "main_rotor.blade_length": main.blade_length > 0,
+            "main_rotor.blade_inertia": min(main.blade_inertia) > 0,
+            "main_rotor.hinge_offset": main.hinge_offset >= 0,
+            "tail_rotor.n_blades": tail.n_blades >= 1,
+            "tail_rotor.blade_mass": tail.blade_mass > 0,
+            "tail_rotor.blade_length": tail.blade_length > 0,
+            "tail_rotor.blade_inertia": min(tail.blade_inertia) > 0,
+            "imbalance.blade": 0 <= self.imbalanced_blade < main.n_blades,
+            "imbalance.mass_factor": self.imbalance_mass_factor > 0,
+        }
+        for key, ok in checks.items():
+            if not ok:
+                raise ValueError(f"helicopter.{key}: physically invalid value")
+
+    def balanced(self) -> "Helicopter":
+        """The same helicopter with every main blade at its nominal mass."""
+        return replace(self, imbalance_mass_factor=1.0)
+
+    def blade_masses(self) -> np.ndarray:
+        """Mass of each main rotor blade, kg (the imbalanced one scaled)."""
+        masses = np.full(self.main_rotor.n_blades, self.main_rotor.blade_mass)
+        masses[self.imbalanced_blade] *= self.imbalance_mass_factor
+        return masses
+
+    def total_mass(self) -> float:
+        """Mass of the whole helicopter, kg."""
+        return self.fuselage_mass + self.blade_masses().sum() + self.tail_rotor.n_blades * self.tail_rotor.blade_mass
+
+
+def _floats(values) -> tuple[float, ...]:
+    return tuple(float(v) for v in values)
+
+
+def _rotor_kwargs(cfg: dict, kind: type) -> dict:
+    kwargs = {}
+    for name in kind.__dataclass_fields__:
+        value = cfg[name]
+        kwargs[name] = _floats(value) if isinstance(value, (list, tuple)) else value
+    kwargs["n_blades"] = int(cfg["n_blades"])
+    return kwargs
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Time integration: implicit generalized-alpha (explicit solvers ignore prescribed motion)."""
+
+    duration: float  # s
+    step: float  # s
+    output_step: float  # s, sensor sampling period
+    spectral_radius: float = 0.8  # generalized-alpha numerical damping at infinite frequency
+    newton_tolerance: float = 1e-6  # relative residual tolerance of (modified) Newton
+
+    def __post_init__(self):
+        ratio = self.output_step / self.step
+        if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
+            raise ValueError(f"solver.output_step: {self.output_step} s must be a whole multiple of "
+                             f"solver.step {self.step} s (uniform sampling for the FFT)")
+
+    @classmethod
+    def from_config(cls, cfg: dict) -> "SolverOptions":
+        return cls(**{name: float(cfg[name]) for name in cls.__dataclass_fields__})
+
+    def settings(self) -> exu.SimulationSettings:
+        """Exudyn settings: no files, sensors kept in memory, dense linear solver (~20 coordinates)."""
+        ss = exu.SimulationSettings()
+        ss.timeIntegration.numberOfSteps = int(round(self.duration / self.step))
+        ss.timeIntegration.endTime = self.duration
+        ss.timeIntegration.verboseMode = 0
+        ss.timeIntegration.generalizedAlpha.spectralRadius = self.spectral_radius
+        ss.timeIntegration.newton.useModifiedNewton = True
+        ss.timeIntegration.newton.relativeTolerance = self.newton_tolerance
+        ss.linearSolver.solverType = exu.LinearSolverType.EXUdense
+        ss.solution.sensors.writePeriod = self.output_step
+        ss.solution.file.write = False
+        ss.show.computationTime = False
+        return ss
+
+
+def _blade_link_inertia(mass: float, length: float, inertia: tuple, scale: float = 1.0) -> RigidBodyInertia:
+    """Blade inertia in its link frame (x along the blade from the hinge), kg, kg m^2.
+
+    The paper's blade axes have y along the blade, so its (Ix, Iy, Iz) become (Iy, Ix, Iz) here.
+    `scale` multiplies mass and inertia (a uniform change of density).
+    """
+    ix, iy, iz = inertia
+    return RigidBodyInertia(mass=scale * mass, inertiaTensor=scale * np.diag([iy, ix, iz]),
+                            com=[length / 2, 0.0, 0.0], inertiaTensorAtCOM=True)
+
+
+def _tail_hub_inertia(tail: TailRotor) -> RigidBodyInertia:
+    """Tail hub link: the tail blades rigidly attached, evenly spaced in the x-z plane."""
+    ix, iy, iz = tail.blade_inertia
+    total = None
+    for k in range(tail.n_blades):
+        psi = 2 * np.pi * k / tail.n_blades
+        c, s = np.cos(psi), np.sin(psi)
+        rot_y = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+        at_com = RigidBodyInertia(mass=tail.blade_mass, inertiaTensor=np.diag([iy, ix, iz]))
+        blade = at_com.Rotated(rot_y).Translated(rot_y @ [tail.blade_length / 2, 0.0, 0.0])
+        total = blade if total is None else total + blade
+    return total
+
+
+def tree_links(heli: Helicopter) -> list[TreeLink]:
+    """The kinematic tree's links in order (see the module docstring)."""
+    main, tail = heli.main_rotor, heli.tail_rotor
+    ix, iy, iz = heli.fuselage_inertia
+    ixz = heli.fuselage_inertia_xz
+    fuselage = RigidBodyInertia(mass=heli.fuselage_mass, inertiaTensor=np.array([[ix, 0, ixz], [0, iy, 0], [ixz, 0, iz]]),
+                                inertiaTensorAtCOM=True)
+    none = RigidBodyInertia()
+    jt = exu.JointType
+
+    def link(inertia, joint, parent, offset=None, rotation=None, pd=None):
+        ht = exu.HT(np.eye(3) if rotation is None else rotation, [0.0, 0.0, 0.0] if offset is None else list(offset))
+        return TreeLink(inertia, joint, jointHT=ht, parent=parent, PDcontrol=pd, graphicsDataList=[])
+
+    links = [link(none, joint, k - 1) for k, joint in enumerate(
+        [jt.PrismaticX, jt.PrismaticY, jt.PrismaticZ, jt.RevoluteX, jt.RevoluteY])]
+    links.append(link(fuselage, jt.RevoluteZ, 4))
+    links.append(link(none, jt.RevoluteZ, FUSELAGE_LINK, offset=[0.0, 0.0, main.hub_height]))
+    scales = heli.blade_masses() / main.blade_mass
+    for k in range(main.n_blades):
+        psi = 2 * np.pi * k / main.n_blades
+        hinge = main.hinge_offset * np.array([np.cos(psi), np.sin(psi), 0.0])
+        flap = len(links)
+        links.append(link(none, jt.RevoluteY, HUB_LINK, offset=hinge, rotation=RotationMatrixZ(psi),
+                          pd=(main.flap_stiffness, main.flap_damping)))
+        links.append(link(none, jt.RevoluteZ, flap, pd=(main.lag_stiffness, main.lag_damping)))
+        blade = _blade_link_inertia(main.blade_mass, main.blade_length, main.blade_inertia, scales[k])
+        links.append(link(blade, jt.RevoluteX, flap + 1, pd=(main.feather_stiffness, main.feather_damping)))
+    links.append(link(_tail_hub_inertia(tail), jt.RevoluteY, FUSELAGE_LINK, offset=tail.position))
+    return links
+
+
+def initial_fuselage_velocity(heli: Helicopter) -> np.ndarray:
+    """Fuselage velocity, m/s, that makes the total linear momentum zero at t = 0.
+
+    An imbalanced main rotor's centre of mass is off the shaft, so the spinning rotor carries
+    momentum Omega e_z x sum(m_i r_i); the whole helicopter moves the other way to cancel it.
+    The tail rotor's centre of mass lies on its shaft and adds none.
+    """
+    main = heli.main_rotor
+    psi = 2 * np.pi * np.arange(main.n_blades) / main.n_blades
+    r_com = main.hinge_offset + main.blade_length / 2
+    m = heli.blade_masses()
+    first_moment = r_com * np.array([np.sum(m * np.cos(psi)), np.sum(m * np.sin(psi)), 0.0])
+    rotor_momentum = main.omega_rad_s * np.cross([0.0, 0.0, 1.0], first_moment)
+    return -rotor_momentum / heli.total_mass()
+
+
+@dataclass
+class Model:
+    """An assembled Exudyn system and handles to its parts."""
+
+    system_container: exu.SystemContainer
+    mbs: exu.MainSystem
+    node: int
+    sensors: dict[str, int]
+    link_masses: dict[int, float]
+
+
+def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: bool = False) -> Model:
+    """Assemble the rotorcraft (no solve).
+
+    fix_fuselage: hold the six fuselage coordinates (hinged-blade eigen-analysis).
+    momentum_sensors: add a velocity sensor at every massive link's centre of mass.
+    """
+    heli.validate()
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    links = tree_links(heli)
+    q_t0 = np.zeros(len(links))
+    if not fix_fuselage:
+        q_t0[:3] = initial_fuselage_velocity(heli)
+    q_t0[HUB_LINK] = heli.main_rotor.omega_rad_s
+    q_t0[-1] = heli.tail_rotor.omega_rad_s
+    tree = mbs.CreateKinematicTree(listOfTreeLinks=links, initialCoordinates_t=q_t0, show=False)
+    node = mbs.GetObject(tree)["nodeNumber"]
+
+    ground = mbs.AddMarker(eii.MarkerNodeCoordinate(nodeNumber=mbs.AddNode(eii.NodePointGround()), coordinate=0))
+
+    def hold(coordinate: int, speed: float | None) -> None:
+        """Coordinate held at its initial value (speed None) or turning at `speed` rad/s exactly."""
+        marker = mbs.AddMarker(eii.MarkerNodeCoordinate(nodeNumber=node, coordinate=coordinate))
+        mbs.AddObject(eii.CoordinateConstraint(markerNumbers=[ground, marker], offset=speed or 0.0,
+                                               velocityLevel=speed is not None))
+
+    hold(HUB_LINK, heli.main_rotor.omega_rad_s)
+    hold(len(links) - 1, heli.tail_rotor.omega_rad_s)
+    if fix_fuselage:
+        for coordinate in range(6):
+            hold(coordinate, None)
+
+    def tree_sensor(link_number, position, output):
+        return mbs.AddSensor(eii.SensorKinematicTree(objectNumber=tree, linkNumber=link_number,
+                                                     localPosition=list(position), outputVariableType=output,
+                                                     storeInternal=True, writeToFile=False))
+
+    sensors = {
+        "mount": tree_sensor(FUSELAGE_LINK, heli.mount_point, exu.OutputVariableType.Position),
+        "coordinates": mbs.AddSensor(eii.SensorNode(nodeNumber=node, outputVariableType=exu.OutputVariableType.Coordinates,
+                                                    storeInternal=True, writeToFile=False)),
+    }
+    masses = {k: lk.linkInertia.Mass() for k, lk in enumerate(links) if lk.linkInertia.Mass() > 0}
+    if momentum_sensors:
+        for k in masses:
+            sensors[f"velocity_{k}"] = tree_sensor(k, links[k].linkInertia.COM(), exu.OutputVariableType.Velocity)
+    mbs.Assemble()
+    return Model(sc, mbs, node, sensors, masses)
+
+
+def solve(model: Model, options: SolverOptions) -> dict:
+    """Integrate in time; return solver statistics. Raises RuntimeError if the solver fails."""
+    if not model.mbs.SolveDynamic(options.settings(), solverType=exu.DynamicSolverType.GeneralizedAlpha):
+        raise RuntimeError("helicopter time integration failed")
+    it = model.mbs.sys["dynamicSolver"].it
+    return {"newton_iterations": int(it.newtonStepsCount), "jacobian_updates": int(it.newtonJacobiCount)}
+
+
+def linear_momentum(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """Total linear momentum over time, kg m/s (needs `momentum_sensors`): (time s, momentum (n, 3))."""
+    data = {k: model.mbs.GetSensorStoredData(model.sensors[f"velocity_{k}"]) for k in model.link_masses}
+    first = next(iter(data.values()))
+    return first[:, 0], sum(model.link_masses[k] * d[:, 1:4] for k, d in data.items())
+
+
+def run(heli: Helicopter, options: SolverOptions) -> xr.Dataset:
+    """Simulate and return the mount point's inertial displacement from its start, m, (axis, time).
+
+    Attributes record the main rotor angle error after the run (rad) and solver statistics.
+    """
+    model = build(heli)
+    stats = solve(model, options)
+    mount = model.mbs.GetSensorStoredData(model.sensors["mount"])
+    q = model.mbs.GetSensorStoredData(model.sensors["coordinates"])
+    time = mount[:, 0]
+    angle_error = float(q[-1, 1 + HUB_LINK] - heli.main_rotor.omega_rad_s * time[-1])
+    ds = xr.Dataset(
+        {"displacement": (("axis", "time"), (mount[:, 1:4] - mount[0, 1:4]).T,
+                          {"units": "m", "long_name": "platform mount point displacement, inertial frame"})},
+        coords={"axis": ("axis", list(AXES), {"units": "1", "long_name": "axis (x forward, y left, z up)"}),
+                "time": ("time", time, {"units": "s", "long_name": "simulation time"})},
+        attrs={"rotor_angle_error_rad": angle_error, **stats},
+    )
+    return ds
+
+
+def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], *, min_omega_rad_s: float,
+              zero_padding: int) -> xr.Dataset:
+    """Combine runs keyed by rotor state ("balanced", "imbalanced") with their spectra.
+
+    Adds the amplitude spectrum of each axis (Hann window, `zero_padding` times the length) and the
+    dominant angular frequency above `min_omega_rad_s`, where the free-floating fuselage's slow
+    rigid-body drift (no aerodynamic restoring force here) is excluded.
+    """
+    rotors = list(runs)
+    ds = xr.concat([runs[r] for r in rotors], dim=xr.DataArray(rotors, dims="rotor"), combine_attrs="override")
+    ds.attrs = {}
+    ds["rotor"].attrs = {"units": "1", "long_name": "main rotor state"}
+    spacing = np.diff(ds.time.values)
+    dt = float(spacing.mean())
+    if np.ptp(spacing) > 1e-6 * dt:
+        raise ValueError("runs: time samples are not uniformly spaced")
+    amp, dominant = [], np.empty((len(rotors), len(AXES)))
+    for i, r in enumerate(rotors):
+        for j, a in enumerate(AXES):
+            signal = ds.displacement.sel(rotor=r, axis=a).values
+            freq_hz, spec = spectrum.amplitude_spectrum(signal, dt, zero_padding=zero_padding)
+            amp.append(spec)
+            dominant[i, j] = 2 * np.pi * spectrum.dominant_frequency(
+                signal, dt, min_freq_hz=min_omega_rad_s / (2 * np.pi), zero_padding=zero_padding)
+    amp = np.reshape(amp, (len(rotors), len(AXES), -1))
+    ds = ds.assign_coords(omega=("omega", 2 * np.pi * freq_hz, {"units": "rad s-1", "long_name": "angular frequency"}))
+    ds["amplitude_spectrum"] = (("rotor", "axis", "omega"), amp,
+                                {"units": "m", "long_name": "single-sided amplitude spectrum of the displacement (Hann window)"})
+    ds["dominant_omega"] = (("rotor", "axis"), dominant,
+                            {"units": "rad s-1", "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"})
+    ds["rotor_angle_error"] = ("rotor", [runs[r].attrs["rotor_angle_error_rad"] for r in rotors],
+                               {"units": "rad", "long_name": "main rotor angle minus Omega t at the end of the run"})
+    ds["mass_imbalance_factor"] = ("rotor", [1.0 if r == "balanced" else heli.imbalance_mass_factor for r in rotors],
+                                   {"units": "1", "long_name": "mass scale of the imbalanced blade"})
+    return ds
+
+
+def blade_frequencies(heli: Helicopter) -> np.ndarray:
+    """Undamped natural frequencies, rad/s, of the rotor with the fuselage held, ascending.
+
+    Exudyn's eigen-analysis linearises at the spinning state, so centrifugal stiffening is
+    included; the hub coordinates are removed by their constraints.
+    """
+    model = build(heli, fix_fuselage=True)
+    eig, _ = model.mbs.ComputeODE2Eigenvalues(exu.SimulationSettings(), useSparseSolver=False,
+                                              ignoreAlgebraicEquations=False)
+    return np.sort(np.sqrt(np.abs(np.asarray(eig))))
+
+
+def coupled_modes(heli: Helicopter) -> np.ndarray:
+    """Eigenvalues (1/s, complex) of the free helicopter linearised at t = 0 with gyroscopic and
+    damping terms (first-order form). Rigid-body modes appear as zeros."""
+    model = build(heli)
+    out = model.mbs.ComputeLinearizedSystem(exu.SimulationSettings(), projectIntoConstraintNullspace=True)
+    m, k, d = (np.asarray(a) for a in out[:3])
+    n = m.shape[0]
+    m_inv = np.linalg.inv(m)
+    a = np.block([[np.zeros((n, n)), np.eye(n)], [-m_inv @ k, -m_inv @ d]])
+    return np.linalg.eigvals(a)

@@ -1,0 +1,1 @@
+"""Figure functions: take datasets, return matplotlib Figures (Agg backend, no file I/O)."""

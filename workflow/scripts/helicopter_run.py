@@ -1,0 +1,16 @@
+"""Snakemake script: one helicopter run (balanced or imbalanced rotor) -> NetCDF."""
+
+import sys
+
+sys.exudynFast = True  # Exudyn's AVX2 module without range checks (falls back when the CPU lacks AVX2)
+
+from uavdamp import helicopter, io  # noqa: E402
+
+io.start_log(snakemake.log[0])
+cfg = snakemake.params.helicopter
+heli = helicopter.Helicopter.from_config(cfg)
+if snakemake.wildcards.rotor == "balanced":
+    heli = heli.balanced()
+ds = helicopter.run(heli, helicopter.SolverOptions.from_config(cfg["solver"]))
+io.log_info(f"{snakemake.wildcards.rotor}: {ds.attrs}")
+io.write_netcdf(ds, snakemake.output[0], cfg, section="helicopter", command=io.snakemake_command(snakemake))
