@@ -18,4 +18,5 @@ rule all:
         "reports/figures/fuselage_vibration.png",
 
 
+include: "workflow/rules/common.smk"
 include: "workflow/rules/helicopter.smk"

@@ -155,6 +155,8 @@ class SolverOptions:
     output_step: float  # s, sensor sampling period
     spectral_radius: float = 0.8  # generalized-alpha numerical damping at infinite frequency
     newton_tolerance: float = 1e-6  # relative residual tolerance of (modified) Newton
+    newton_absolute_tolerance: float = 1e-8  # absolute residual tolerance (N, N m): the balanced rotor's
+    # residual is pure round-off of large cancelling centrifugal forces, below Exudyn's default 1e-10
 
     def __post_init__(self):
         ratio = self.output_step / self.step
@@ -175,6 +177,7 @@ class SolverOptions:
         ss.timeIntegration.generalizedAlpha.spectralRadius = self.spectral_radius
         ss.timeIntegration.newton.useModifiedNewton = True
         ss.timeIntegration.newton.relativeTolerance = self.newton_tolerance
+        ss.timeIntegration.newton.absoluteTolerance = self.newton_absolute_tolerance
         ss.linearSolver.solverType = exu.LinearSolverType.EXUdense
         ss.solution.sensors.writePeriod = self.output_step
         ss.solution.file.write = False

@@ -1,16 +1,11 @@
 """Snakemake script: balanced and imbalanced runs -> spectra, dominant frequencies, Fig. 3 analogue."""
 
-import xarray as xr
-
 from uavdamp import helicopter, io
 from uavdamp.plots.helicopter import fuselage_vibration_figure
 
 io.start_log(snakemake.log[0])
 cfg = snakemake.params.helicopter
-runs = {}
-for rotor, path in zip(snakemake.params.rotors, snakemake.input.runs):
-    with xr.open_dataset(path) as run:
-        runs[rotor] = run.load()
+runs = {rotor: io.open_dataset(path) for rotor, path in zip(snakemake.params.rotors, snakemake.input.runs)}
 ds = helicopter.vibration(helicopter.Helicopter.from_config(cfg), runs, **cfg["spectrum"])
 io.log_info(f"dominant omega, rad/s:\n{ds.dominant_omega.to_pandas()}")
 fig = fuselage_vibration_figure(ds)

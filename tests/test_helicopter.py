@@ -1,0 +1,97 @@
+"""Helicopter model physics: closed-form hinged-blade frequencies, imbalance, momentum, rotor angle."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from uavdamp import helicopter as H
+
+
+@pytest.fixture(scope="module")
+def heli(default_config) -> H.Helicopter:
+    return H.Helicopter.from_config(default_config["helicopter"])
+
+
+def hinged_blade_frequencies(heli: H.Helicopter) -> np.ndarray:
+    """Closed form for uniform rods hinged at offset e, spinning at Omega (fuselage held), rad/s.
+
+    flap: nu^2 = Omega^2 (1 + 3e / (2L)) + k_flap / I_h
+    lag:  nu^2 = Omega^2 (3e / (2L))     + k_lag / I_h,  I_h = I_com + m (L/2)^2 (about the hinge)
+    feather: nu^2 = k_feather / I_axis (no propeller moment: the two other inertias are equal).
+    A blade's mass scale cancels in flap and lag; its feather inertia scales with it.
+    """
+    main = heli.main_rotor
+    e, length, omega = main.hinge_offset, main.blade_length, main.omega_rad_s
+    ix, i_axis, iz = main.blade_inertia
+    out = []
+    for mass in heli.blade_masses():
+        scale = mass / main.blade_mass
+        i_flap = scale * ix + mass * (length / 2) ** 2
+        i_lag = scale * iz + mass * (length / 2) ** 2
+        out.append(np.sqrt(omega**2 * (1 + 3 * e / (2 * length)) + main.flap_stiffness / i_flap))
+        out.append(np.sqrt(omega**2 * (3 * e / (2 * length)) + main.lag_stiffness / i_lag))
+        out.append(np.sqrt(main.feather_stiffness / (scale * i_axis)))
+    return np.sort(out)
+
+
+@pytest.mark.parametrize("lag_stiffness", [0.0, None], ids=["free-lag-hinge", "config-lag-spring"])
+def test_blade_frequencies_match_closed_form(heli, lag_stiffness):
+    if lag_stiffness is not None:
+        heli = replace(heli, main_rotor=replace(heli.main_rotor, lag_stiffness=lag_stiffness))
+    expected = hinged_blade_frequencies(heli)
+    computed = H.blade_frequencies(heli)
+    assert computed.shape == expected.shape == (3 * heli.main_rotor.n_blades,)
+    np.testing.assert_allclose(computed, expected, rtol=0.01)
+    # the textbook pair, unaffected by springs when they are zero
+    if lag_stiffness == 0.0:
+        omega, e, length = heli.main_rotor.omega_rad_s, heli.main_rotor.hinge_offset, heli.main_rotor.blade_length
+        assert np.any(np.isclose(computed, omega * np.sqrt(3 * e / (2 * length)), rtol=0.01))
+        assert np.any(np.isclose(computed, omega * np.sqrt(1 + 3 * e / (2 * length)), rtol=0.01))
+
+
+def test_balanced_rotor_vibrates_a_million_times_less(heli):
+    options = H.SolverOptions(duration=2.0, step=0.002, output_step=0.004)
+    imbalanced = H.run(heli, options).displacement.sel(axis=["y", "z"])
+    balanced = H.run(heli.balanced(), options).displacement.sel(axis=["y", "z"])
+    ratio = float(np.abs(balanced).max() / np.abs(imbalanced).max())
+    assert float(np.abs(imbalanced).max()) > 1e-3  # a real vibration, mm scale
+    assert ratio < 1e-6
+
+
+def test_rotor_angle_exact_after_50_s(heli):
+    ds = H.run(heli, H.SolverOptions(duration=50.0, step=0.0025, output_step=0.005))
+    assert float(ds.time[-1]) == pytest.approx(50.0)
+    assert abs(ds.attrs["rotor_angle_error_rad"]) < 1e-8
+
+
+def test_initial_velocity_cancels_rotor_momentum(heli):
+    v0 = H.initial_fuselage_velocity(heli)
+    assert np.linalg.norm(v0) > 0.5  # the imbalance alone would carry the helicopter away (m/s)
+    assert np.allclose(H.initial_fuselage_velocity(heli.balanced()), 0.0)
+
+
+def test_total_linear_momentum_stays_zero(heli):
+    """Zero at t = 0 by construction; afterwards only the integrator's error (no external force)."""
+    model = H.build(heli, momentum_sensors=True)
+    H.solve(model, H.SolverOptions(duration=3.0, step=0.001, output_step=0.005))
+    time, momentum = H.linear_momentum(model)
+    main = heli.main_rotor
+    rotor_scale = (main.blade_mass * (1 - heli.imbalance_mass_factor) * main.omega_rad_s
+                   * (main.hinge_offset + main.blade_length / 2))  # kg m/s the imbalance carries
+    assert np.abs(momentum[0]).max() < 1e-9 * rotor_scale
+    assert np.abs(momentum).max() < 1e-3 * rotor_scale
+
+
+def test_invalid_parameters_are_named(default_config):
+    cfg = default_config["helicopter"]
+    bad = {**cfg, "fuselage": {**cfg["fuselage"], "mass": -1.0}}
+    with pytest.raises(ValueError, match="fuselage.mass"):
+        H.Helicopter.from_config(bad)
+    bad = {**cfg, "imbalance": {**cfg["imbalance"], "blade": 7}}
+    with pytest.raises(ValueError, match="imbalance.blade"):
+        H.Helicopter.from_config(bad)
+    with pytest.raises(ValueError, match="output_step"):
+        H.SolverOptions(duration=1.0, step=0.002, output_step=0.005)
