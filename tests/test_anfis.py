@@ -1,0 +1,408 @@
+"""Tests of the ANFIS estimator (uavdamp.anfis): gradient, fit quality, step-size rule, snapshots,
+persistence, guards and argument checks."""
+
+import itertools
+
+import numpy as np
+import pytest
+import xarray as xr
+from skfuzzy import gaussmf
+
+from uavdamp.anfis import ANFIS, loss_and_gradient, update_step_size
+
+# any warning not expected with pytest.warns fails the test
+pytestmark = pytest.mark.filterwarnings("error")
+
+LO = np.array([5.0, 5.0, 10.0])  # f_y [Hz], f_z [Hz], K [N/m]
+HI = np.array([30.0, 30.0, 1000.0])
+NAMES = dict(
+    input_names=["f_y", "f_z", "K"], input_units=["Hz", "Hz", "N/m"], output_name="C", output_units="N s/m"
+)
+
+
+def smooth(X):
+    """Test function: y = 2 + sin(f_y / 5) + 0.5 (f_z / 20)^2 + exp(-K / 500), between 1.3 and 4.7
+    for f_y, f_z in [5, 30] Hz and K in [10, 1000] N/m (inputs on very different scales on purpose)."""
+    return 2 + np.sin(X[:, 0] / 5) + 0.5 * (X[:, 1] / 20) ** 2 + np.exp(-X[:, 2] / 500)
+
+
+def sample(n, seed):
+    rng = np.random.default_rng(seed)
+    X = LO + (HI - LO) * rng.random((n, 3))
+    return X, smooth(X)
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    """3 inputs x 2 MFs (8 rules), 300 training and 100 validation rows."""
+    X, y = sample(400, 0)
+    return ANFIS(n_mfs=2, epochs=300, **NAMES).fit(X[:300], y[:300], X[300:], y[300:])
+
+
+# ---------------------------------------------------------------------------------------------
+
+
+def random_model(rng, n_inputs, n_mfs, structure):
+    """Random premise/consequent parameters with grid (shared MFs) or fcm (one MF per rule) structure."""
+    if structure == "grid":
+        mf_input = np.repeat(np.arange(n_inputs), n_mfs)
+        rule_mf = np.array(list(itertools.product(range(n_mfs), repeat=n_inputs))) + n_mfs * np.arange(n_inputs)
+    else:
+        mf_input = np.repeat(np.arange(n_inputs), n_mfs)
+        rule_mf = np.arange(n_mfs)[:, None] + n_mfs * np.arange(n_inputs)[None, :]
+    centres = rng.uniform(-1, 2, mf_input.size)
+    sigmas = rng.uniform(0.3, 1.5, mf_input.size)
+    consequents = rng.normal(size=(rule_mf.shape[0], n_inputs + 1))
+    return centres, sigmas, mf_input, rule_mf, consequents
+
+
+@pytest.mark.parametrize("structure", ["grid", "fcm"])
+def test_gradient_matches_central_differences(structure):
+    worst = 0.0
+    for seed, n_inputs, n_mfs in itertools.product(range(4), (2, 3), (2, 3)):
+        rng = np.random.default_rng(seed)
+        centres, sigmas, mf_input, rule_mf, consequents = random_model(rng, n_inputs, n_mfs, structure)
+        X = rng.uniform(-1, 2, (50, n_inputs))
+        y = np.sin(X.sum(axis=1)) + rng.normal(size=50)
+        args = (mf_input, rule_mf, consequents)
+        _, g_c, g_s = loss_and_gradient(X, y, centres, sigmas, *args)
+        analytic = np.concatenate([g_c, g_s])
+        params = np.concatenate([centres, sigmas])
+        numeric = np.empty_like(params)
+        M = centres.size
+        for j in range(params.size):
+            h = 1e-5 * max(1.0, abs(params[j]))
+            up, down = params.copy(), params.copy()
+            up[j] += h
+            down[j] -= h
+            e_up = loss_and_gradient(X, y, up[:M], up[M:], *args)[0]
+            e_down = loss_and_gradient(X, y, down[:M], down[M:], *args)[0]
+            numeric[j] = (e_up - e_down) / (2 * h)
+        rel = np.linalg.norm(analytic - numeric) / np.linalg.norm(numeric)
+        worst = max(worst, rel)
+        assert rel < 1e-5, (seed, n_inputs, n_mfs, rel)
+    print(f"{structure}: worst relative gradient error {worst:.2e}")
+
+
+def test_fits_smooth_function_of_three_inputs(fitted):
+    """Held-out mean relative error of `smooth` well under 1 % (8 rules, 300 epochs)."""
+    X_test, y_test = sample(2000, 1)
+    mre = np.mean(np.abs(fitted.predict(X_test) - y_test) / y_test)
+    print(f"held-out mean relative error: {100 * mre:.3f} %")
+    assert mre < 0.003
+    assert fitted.score(X_test, y_test) > 0.999
+    # premise learning does work: the error falls well below the initial (grid + LSE) one
+    assert fitted.train_rmse_.min() < 0.3 * fitted.train_rmse_[0]
+
+
+def unit_box_data(n, seed):
+    """Inputs spanning exactly [0, 1] (so the internal scaling is the identity) and a smooth output."""
+    rng = np.random.default_rng(seed)
+    X = rng.random((n, 3))
+    X[0], X[1] = 0.0, 1.0
+    return X, 1 + np.sin(3 * X[:, 0]) + X[:, 1] ** 2 + 0.5 * X[:, 2]
+
+
+def test_one_epoch_of_hybrid_learning():
+    """Epoch 1: least squares for the consequents (checked against skfuzzy.gaussmf and numpy lstsq);
+    then one normalised gradient step of length step_size on the premise."""
+    X, y = unit_box_data(100, 13)
+    one = ANFIS(epochs=1, step_size=0.01).fit(X, y)
+    two = ANFIS(epochs=2, step_size=0.01).fit(X, y)
+    assert two.best_epoch_ == 2
+    c0, s0 = one.centres_, one.sigmas_
+    # grid init: centres at the range ends, neighbours crossing at 0.5
+    np.testing.assert_allclose(c0, [0, 1, 0, 1, 0, 1])
+    np.testing.assert_allclose(gaussmf(np.array([0.5]), 0.0, s0[0]), 0.5)
+    # consequents of epoch 1 from an independent forward pass
+    w = np.ones((X.shape[0], one.n_rules_))
+    for r, mfs in enumerate(one.rule_mf_):
+        for i, m in enumerate(mfs):
+            w[:, r] *= gaussmf(X[:, i], c0[m], s0[m])
+    w /= w.sum(axis=1, keepdims=True)
+    X1 = np.column_stack([X, np.ones(len(X))])
+    A = (w[:, :, None] * X1[:, None, :]).reshape(len(X), -1)
+    expected = np.linalg.lstsq(A, y, rcond=None)[0].reshape(one.n_rules_, -1)
+    np.testing.assert_allclose(one.consequents_, expected, rtol=1e-6, atol=1e-9)
+    # the premise step
+    _, g_c, g_s = loss_and_gradient(X, y, c0, s0, one.mf_input_, one.rule_mf_, one.consequents_)
+    norm = np.sqrt(g_c @ g_c + g_s @ g_s)
+    np.testing.assert_allclose(two.centres_, c0 - 0.01 * g_c / norm, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(two.sigmas_, s0 - 0.01 * g_s / norm, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(np.r_[two.centres_ - c0, two.sigmas_ - s0]), 0.01, rtol=1e-9)
+
+
+def test_sigma_floor():
+    X, _ = unit_box_data(200, 14)
+    y = np.where(X[:, 0] > 0.5, 1.0, 0.0) + 0.1 * X[:, 1]  # a step in x1 pulls its widths down
+    free = ANFIS(epochs=300, step_size=0.05).fit(X, y)
+    assert free.sigmas_[:2].max() < 0.15
+    floored = ANFIS(epochs=300, step_size=0.05, min_sigma_frac=0.2).fit(X, y)
+    assert floored.sigmas_.min() >= 0.2
+    np.testing.assert_allclose(floored.sigmas_[:2], 0.2)
+
+
+def test_step_size_rule():
+    # four consecutive decreases: x1.1
+    assert update_step_size([5, 4, 3, 2, 1], 0.01, 0) == pytest.approx((0.011, 4))
+    # two alternations up-down-up-down: x0.9
+    assert update_step_size([1, 2, 1, 2, 1], 0.01, 0) == pytest.approx((0.009, 4))
+    # the opposite phase (down-up-down-up), a mixed pattern, too short a history: unchanged
+    assert update_step_size([2, 1, 2, 1, 2], 0.01, 0) == (0.01, 0)
+    assert update_step_size([5, 4, 3, 3, 2], 0.01, 0) == (0.01, 0)
+    assert update_step_size([4, 3, 2, 1], 0.01, 0) == (0.01, 0)
+    # the pattern must lie after the last change
+    assert update_step_size([9, 8, 5, 4, 3, 2, 1], 0.01, 3) == (0.01, 3)
+    assert update_step_size([9, 8, 5, 4, 3, 2, 1], 0.01, 2) == pytest.approx((0.011, 6))
+    assert update_step_size([1, 2, 1, 2, 1], 0.01, 0, increase=1.5, decrease=0.5) == pytest.approx((0.005, 4))
+
+
+def test_fit_applies_step_size_rule(fitted):
+    step, last = fitted.step_size, 0
+    for k in range(fitted.train_rmse_.size):
+        assert fitted.step_sizes_[k] == pytest.approx(step, rel=1e-12)
+        step, last = update_step_size(fitted.train_rmse_[: k + 1], step, last)
+    assert len(set(np.round(fitted.step_sizes_, 15))) > 1  # the rule did act during this fit
+
+
+def test_validation_snapshot_is_min_validation_epoch():
+    """Noisy small training set: validation error has an interior minimum, the model is that epoch."""
+    rng = np.random.default_rng(0)
+    X = LO + (HI - LO) * rng.random((60, 3))
+    y = smooth(X) + 0.1 * rng.standard_normal(60)
+    X_val = LO + (HI - LO) * rng.random((60, 3))
+    y_val = smooth(X_val)
+    model = ANFIS(epochs=200, step_size=0.05).fit(X, y, X_val, y_val)
+    assert model.val_rmse_.shape == model.train_rmse_.shape == (200,)
+    best = model.best_epoch_
+    assert best == np.argmin(model.val_rmse_) + 1
+    assert 1 < best < 200
+    val_rmse = np.sqrt(np.mean((model.predict(X_val) - y_val) ** 2))
+    train_rmse = np.sqrt(np.mean((model.predict(X) - y) ** 2))
+    assert val_rmse == pytest.approx(model.val_rmse_.min(), rel=1e-9)
+    assert train_rmse == pytest.approx(model.train_rmse_[best - 1], rel=1e-9)
+    assert val_rmse < model.val_rmse_[-1]
+
+
+def test_without_validation_keeps_min_training_epoch():
+    X, y = sample(200, 2)
+    model = ANFIS(epochs=60).fit(X, y)
+    assert model.val_rmse_.size == 0
+    assert model.best_epoch_ == np.argmin(model.train_rmse_) + 1
+    assert np.sqrt(np.mean((model.predict(X) - y) ** 2)) == pytest.approx(model.train_rmse_.min(), rel=1e-9)
+
+
+def test_error_goal_stops_training():
+    X, y = sample(200, 3)
+    full = ANFIS(epochs=200).fit(X, y)
+    goal = 0.5 * full.train_rmse_[0]
+    model = ANFIS(epochs=200, error_goal=goal).fit(X, y)
+    n = model.train_rmse_.size
+    assert 1 < n < 200
+    assert model.train_rmse_[-1] <= goal < model.train_rmse_[:-1].min()
+    assert np.array_equal(model.train_rmse_, full.train_rmse_[:n])
+
+
+def test_netcdf_round_trip_is_exact(fitted, tmp_path):
+    ds = fitted.to_dataset()
+    for name in list(ds.coords) + list(ds.data_vars):
+        assert {"units", "long_name"} <= set(ds[name].attrs), name
+    for value in ds.attrs.values():
+        assert isinstance(value, (str, int, float, np.integer, np.floating))
+    assert ds["mf_centre_2"].attrs["units"] == "N/m"
+    assert ds["consequent_0"].attrs["units"] == "(N s/m)/(Hz)"
+    path = tmp_path / "model.nc"
+    ds.to_netcdf(path)
+    with xr.open_dataset(path) as stored:
+        loaded = ANFIS.from_dataset(stored.load())
+    rng = np.random.default_rng(5)
+    X = LO - 10 + (HI - LO + 20) * rng.random((500, 3))
+    assert np.array_equal(fitted.predict(X), loaded.predict(X))
+    assert loaded.get_params() == fitted.get_params()
+    assert loaded.rules_text() == fitted.rules_text()
+    assert loaded.best_epoch_ == fitted.best_epoch_
+    for attr in (
+        "centres_",
+        "sigmas_",
+        "initial_centres_",
+        "consequents_",
+        "rule_mf_",
+        "train_rmse_",
+        "val_rmse_",
+    ):
+        assert np.array_equal(getattr(loaded, attr), getattr(fitted, attr)), attr
+
+
+def test_predictions_bounded_far_outside(fitted):
+    X, y = sample(300, 0)
+    edge = np.array([[HI[0], LO[1], HI[2]]])
+    for far in ([1e6, -1e6, 1e9], [1e300, -1e300, 1e300], [HI[0] + 1, LO[1] - 1, 1e3 * HI[2]]):
+        pred = fitted.predict(np.array([far]))
+        assert np.isfinite(pred).all()
+        assert pred[0] == fitted.predict(edge)[0]  # clamped to the training box
+        assert y.min() - 0.5 <= pred[0] <= y.max() + 0.5
+    for bad in (np.nan, np.inf, -np.inf):
+        with pytest.raises(ValueError, match="non-finite"):
+            fitted.predict(np.array([[10.0, bad, 100.0]]))
+    with pytest.raises(ValueError, match="columns"):
+        fitted.predict(np.ones((3, 2)))
+
+
+def test_zero_firing_strength_guard():
+    """Narrow MFs far from every sample: every product of memberships underflows to 0."""
+    rng = np.random.default_rng(0)
+    centres, sigmas, mf_input, rule_mf, consequents = random_model(rng, 3, 2, "grid")
+    X = rng.uniform(100, 200, (20, 3))
+    loss, g_c, g_s = loss_and_gradient(X, X.sum(axis=1), centres, 0.01 * sigmas, mf_input, rule_mf, consequents)
+    assert np.isfinite(loss) and np.isfinite(g_c).all() and np.isfinite(g_s).all()
+
+
+def test_constant_input_is_ignored_with_warning():
+    X, y = sample(300, 4)
+    X[:, 2] = 100.0
+    y = smooth(X)
+    with pytest.warns(UserWarning, match="'K' is constant"):
+        model = ANFIS(epochs=50, **NAMES).fit(X, y)
+    X_test, y_test = sample(200, 5)
+    pred = model.predict(X_test)
+    assert np.isfinite(pred).all()
+    X_test[:, 2] = 100.0
+    assert np.array_equal(pred, model.predict(X_test))  # K clamped to its only value
+    assert np.mean(np.abs(pred - smooth(X_test)) / smooth(X_test)) < 0.01
+    assert np.isfinite(model.sigmas_).all() and (model.sigmas_ > 0).all()
+
+
+def test_duplicate_rows():
+    X, y = sample(150, 6)
+    once = ANFIS(epochs=40).fit(X, y)
+    twice = ANFIS(epochs=40).fit(np.vstack([X, X]), np.concatenate([y, y]))
+    X_test, _ = sample(100, 7)
+    assert np.isfinite(twice.predict(X_test)).all()
+    np.testing.assert_allclose(twice.predict(X_test), once.predict(X_test), rtol=1e-6)
+    # one point repeated with conflicting outputs: every input constant, prediction is the mean
+    X_same = np.tile([[10.0, 20.0, 300.0]], (30, 1))
+    y_same = np.linspace(1.0, 2.0, 30)
+    with pytest.warns(UserWarning, match="constant"):
+        model = ANFIS(epochs=5).fit(X_same, y_same)
+    np.testing.assert_allclose(model.predict(X_test), 1.5, rtol=1e-6)
+
+
+def test_fcm_two_rules_three_inputs():
+    """The paper's configuration: three inputs, two rules."""
+    X, y = sample(400, 8)
+    state = np.random.get_state()[1].copy()
+    model = ANFIS(init="fcm", n_rules=2, epochs=200, random_state=3, **NAMES).fit(
+        X[:300], y[:300], X[300:], y[300:]
+    )
+    assert np.array_equal(np.random.get_state()[1], state)  # numpy's global generator untouched
+    assert model.n_rules_ == 2 and model.rule_mf_.shape == (2, 3) and model.centres_.shape == (6,)
+    X_test, y_test = sample(1000, 9)
+    mre = np.mean(np.abs(model.predict(X_test) - y_test) / y_test)
+    print(f"fcm, 2 rules: held-out mean relative error {100 * mre:.3f} %")
+    assert mre < 0.015
+    text = model.rules_text()
+    assert text.count("\n") == 2 and "Rule 2: IF f_y is MF2" in text
+
+
+def test_determinism():
+    X, y = sample(200, 10)
+    for params in (dict(init="grid"), dict(init="fcm", n_rules=3, random_state=7)):
+        a = ANFIS(epochs=30, **params).fit(X, y)
+        b = ANFIS(epochs=30, **params).fit(X, y)
+        assert np.array_equal(a.predict(X), b.predict(X))
+        assert np.array_equal(a.centres_, b.centres_) and np.array_equal(a.train_rmse_, b.train_rmse_)
+
+
+def test_rules_text(fitted):
+    text = fitted.rules_text()
+    lines = text.splitlines()
+    assert len(lines) == 1 + 8
+    assert lines[1].startswith("Rule 1: IF f_y is MF1 (c = ")
+    assert " Hz, sigma = " in lines[1] and " N/m)" in lines[1] and " AND K is MF1 " in lines[1]
+    assert "THEN C = " in lines[1] and "*f_y " in lines[1] and "*K " in lines[1]
+    c = fitted.membership_functions()[0][0][0]
+    assert f"(c = {c:.4g} Hz" in lines[1]
+
+
+def test_get_set_params_round_trip():
+    model = ANFIS(n_mfs=[2, 3], epochs=7, step_size=0.02, **NAMES)
+    params = model.get_params()
+    assert params["n_mfs"] == [2, 3] and params["epochs"] == 7 and params["input_names"] == ["f_y", "f_z", "K"]
+    clone = ANFIS(**params)
+    assert clone.get_params() == params
+    assert clone.set_params(epochs=9, init="fcm") is clone
+    assert clone.epochs == 9 and clone.init == "fcm" and model.epochs == 7
+    assert ANFIS().set_params(**params).get_params() == params
+    with pytest.raises(ValueError, match="'epoch'"):
+        ANFIS().set_params(epoch=3)
+    ANFIS(epochs=-1, init="nope")  # stored as given, checked only in fit
+    assert ANFIS(n_mfs="x").n_mfs == "x"
+
+
+@pytest.mark.parametrize(
+    "params, match",
+    [
+        (dict(n_mfs=0), "n_mfs"),
+        (dict(n_mfs="2"), "n_mfs"),
+        (dict(n_mfs=[2, 2]), "n_mfs"),
+        (dict(n_mfs=20), "n_mfs"),
+        (dict(init="kmeans"), "init"),
+        (dict(init="fcm"), "n_rules"),
+        (dict(init="fcm", n_rules=0), "n_rules"),
+        (dict(epochs=0), "epochs"),
+        (dict(epochs=2.5), "epochs"),
+        (dict(error_goal=-1.0), "error_goal"),
+        (dict(step_size=0.0), "step_size"),
+        (dict(step_size=np.nan), "step_size"),
+        (dict(step_increase=0.9), "step_increase"),
+        (dict(step_decrease=1.2), "step_decrease"),
+        (dict(min_sigma_frac=0.0), "min_sigma_frac"),
+        (dict(ridge=-1e-3), "ridge"),
+        (dict(random_state=-1), "random_state"),
+        (dict(random_state=True), "random_state"),
+        (dict(input_names=["a", "b"]), "input_names"),
+        (dict(input_names=["a", "a", "b"]), "input_names"),
+        (dict(input_units="Hz"), "input_units"),
+        (dict(output_name=""), "output_name"),
+    ],
+)
+def test_bad_arguments_raise(params, match):
+    X, y = sample(50, 11)
+    with pytest.raises(ValueError, match=match):
+        ANFIS(**{"epochs": 2, **params}).fit(X, y)
+
+
+def test_bad_data_raise():
+    X, y = sample(50, 12)
+    model = ANFIS(epochs=2)
+    X_nan = X.copy()
+    X_nan[3, 1] = np.nan
+    for args, match in [
+        ((X_nan, y), "X contains non-finite"),
+        ((X, y[:-1]), "y has 49"),
+        ((X[:, 0], y), "X must be 2-D"),
+        ((X, y, X), "X_val and y_val"),
+        ((X, y, X[:, :2], y), "X_val has 2 columns"),
+        ((X, y, X, y[:5]), "y_val has 5"),
+    ]:
+        with pytest.raises(ValueError, match=match):
+            model.fit(*args)
+    with pytest.raises(RuntimeError, match="not fitted"):
+        ANFIS().predict(X)
+    assert not hasattr(ANFIS(), "n_rules_")
+
+
+def test_any_number_of_inputs():
+    rng = np.random.default_rng(15)
+    x = rng.uniform(0, 6, (200, 1))
+    one = ANFIS(n_mfs=5, epochs=100).fit(x, np.sin(x[:, 0]))
+    assert one.n_rules_ == 5
+    assert np.abs(one.predict(x) - np.sin(x[:, 0])).max() < 0.05
+    X = rng.random((200, 4))
+    y = X[:, 0] ** 2 + np.cos(X[:, 1]) + X[:, 2] * X[:, 3]
+    four = ANFIS(n_mfs=[3, 1, 2, 1], epochs=50).fit(X, y)
+    assert four.n_rules_ == 6 and four.centres_.shape == (7,)
+    assert four.score(X, y) > 0.99
+    again = ANFIS.from_dataset(four.to_dataset())
+    assert np.array_equal(again.predict(X), four.predict(X))
+    assert [c.size for c, _ in again.membership_functions()] == [3, 1, 2, 1]
