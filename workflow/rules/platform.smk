@@ -1,0 +1,14 @@
+rule platform_modes:
+    output:
+        modes="reports/platform/modes.nc",
+        figure="reports/figures/platform_response.png",
+    log:
+        "reports/logs/platform_modes.log",
+    benchmark:
+        "reports/benchmarks/platform_modes.tsv"
+    conda:
+        ENV
+    params:
+        platform=config["platform"],
+    script:
+        "../scripts/platform_modes.py"
