@@ -11,12 +11,22 @@ configfile: "config/config.yaml"
 validate(config, "workflow/schemas/config.schema.yaml")
 
 
+scattergather:
+    reference_table=config["reference_table"]["n_chunks"],
+
+
 rule all:
     default_target: True
     input:
         "reports/helicopter/vibration.nc",
         "reports/figures/fuselage_vibration.png",
+        "reports/platform/modes.nc",
+        "reports/figures/platform_response.png",
+        "reports/reference_table/table.nc",
+        "reports/figures/reference_table.png",
 
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/helicopter.smk"
+include: "workflow/rules/platform.smk"
+include: "workflow/rules/reference_table.smk"

@@ -4,3 +4,13 @@ ENV = "../envs/uavdamp.yaml"
 
 # the helicopter section less the spectrum options, which do not change a run
 HELICOPTER_MODEL = {k: v for k, v in config["helicopter"].items() if k != "spectrum"}
+
+# the platform section less the stage figure's settings, which do not change a simulation
+PLATFORM_MODEL = {k: v for k, v in config["platform"].items() if k != "response"}
+
+# the grid that the reference table searches, less the job layout and the table options
+REFERENCE_GRID = {
+    k: v
+    for k, v in config["reference_table"].items()
+    if k not in ("n_chunks", "threads", "flat_tolerance")
+}

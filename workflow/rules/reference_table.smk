@@ -1,0 +1,33 @@
+rule reference_table_chunk:
+    output:
+        "reports/reference_table/chunks/{scatteritem}.nc",
+    log:
+        "reports/logs/reference_table/{scatteritem}.log",
+    benchmark:
+        "reports/benchmarks/reference_table/{scatteritem}.tsv"
+    conda:
+        ENV
+    threads: config["reference_table"]["threads"]
+    params:
+        grid=REFERENCE_GRID,
+        platform=PLATFORM_MODEL,
+    script:
+        "../scripts/reference_table_chunk.py"
+
+
+rule reference_table:
+    input:
+        chunks=gather.reference_table("reports/reference_table/chunks/{scatteritem}.nc"),
+    output:
+        grid="reports/reference_table/grid.nc",
+        table="reports/reference_table/table.nc",
+        figure="reports/figures/reference_table.png",
+    log:
+        "reports/logs/reference_table/gather.log",
+    conda:
+        ENV
+    params:
+        grid=REFERENCE_GRID,
+        flat_tolerance=config["reference_table"]["flat_tolerance"],
+    script:
+        "../scripts/reference_table.py"
