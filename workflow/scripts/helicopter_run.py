@@ -1,8 +1,10 @@
 """Snakemake script: one helicopter run (balanced or imbalanced rotor) -> NetCDF."""
 
-import sys
+import os
 
-sys.exudynFast = True  # Exudyn's AVX2 module without range checks (falls back when the CPU lacks AVX2)
+# Exudyn's AVX2 module without range checks (falls back when the CPU lacks AVX2); set in the environment so
+# that joblib's worker processes load the same module and give bit-identical numbers.
+os.environ.setdefault("EXUDYN_MODULE", "fast")
 
 from uavdamp import helicopter, io  # noqa: E402
 
