@@ -72,15 +72,11 @@ def n_chunks() -> int:
 
 @pytest.fixture(scope="module")
 def local_run(tmp_path_factory) -> Path:
-    """The same target run locally (the numbers the cluster must reproduce), same threads per chunk.
-
-    Same threads as on the cluster because, with the chunk script's `sys.exudynFast`, a 1-worker
-    chunk (in-process) and a multi-worker chunk (loky workers, plain exudyn) differ in the last bits.
-    """
+    """The same target run locally, default threads (2 workers per chunk, 1 on the cluster): the
+    numbers the cluster must reproduce bit for bit."""
     workdir = copy_workflow(tmp_path_factory.mktemp("local"))
     t0 = time.monotonic()
-    result = snakemake(workdir, "-j2", TARGET, "--configfile", "config/quick.yaml",
-                       "--set-threads", f"reference_table_chunk={CHUNK_THREADS}", timeout=RUN_TIMEOUT_S)
+    result = snakemake(workdir, "-j2", TARGET, "--configfile", "config/quick.yaml", timeout=RUN_TIMEOUT_S)
     print(f"[local] {TARGET}: {time.monotonic() - t0:.1f} s")
     assert result.returncode == 0, result.stderr[-4000:]
     return workdir

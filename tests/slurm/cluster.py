@@ -236,6 +236,7 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
         if SYSTEM_CONF.exists():
             raise ClusterUnavailable(f"{SYSTEM_CONF} exists (a real SLURM install?): jobs would use it, "
                                      "not the throwaway cluster")
+        _stop_leftover()
         if RUN_CONF.is_symlink() and not RUN_CONF.exists():
             RUN_CONF.unlink()  # dangling: left by a throwaway cluster whose folder is gone
         if RUN_CONF.exists() or RUN_CONF.is_symlink():
@@ -321,6 +322,15 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
         self.stop()
 
 
+def _is_process(pid: int, name: str) -> bool:
+    """True when `pid` runs the program `name` (guards against a reused process id)."""
+    try:
+        argv0 = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")[0].decode()
+    except OSError:
+        return False
+    return Path(argv0).name == name
+
+
 def _terminate(pid: int, proc: subprocess.Popen | None, grace: float = 10) -> None:
     """SIGTERM exactly this process, SIGKILL it after `grace` s; reap it when it is our child."""
     try:
@@ -362,10 +372,20 @@ def _stop_from_dir(root: Path) -> None:
             subprocess.run(["scancel", *ids], env=env, capture_output=True)
             time.sleep(2)
     for name in ("slurmd", "slurmctld", "munged"):
-        if name in pids:
+        if name in pids and _is_process(pids[name], name):
             _terminate(pids[name], None)
     _unlink_run_conf(root / "slurm.conf")
     shutil.rmtree(root, ignore_errors=True)
+
+
+def _stop_leftover() -> None:
+    """Stop a throwaway cluster of this script left running by a killed test (its PIDs are on record)."""
+    if not RUN_CONF.is_symlink():
+        return
+    root = Path(os.readlink(RUN_CONF)).parent
+    if root.name.startswith("uavdamp-slurm-") and (root / "pids.json").exists():
+        print(f"stopping a leftover throwaway cluster in {root}", file=sys.stderr)
+        _stop_from_dir(root)
 
 
 def main(argv: list[str]) -> int:
