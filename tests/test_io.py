@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import stat
 
 import numpy as np
 import pytest
@@ -54,3 +56,14 @@ def test_failed_write_leaves_no_partial_file(tmp_path):
     with pytest.raises(Exception):
         io.write_netcdf(ds, target, {}, section="demo")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_outputs_get_umask_permissions(tmp_path):
+    old = os.umask(0o022)
+    try:
+        path = io.write_netcdf(small_dataset(), tmp_path / "p.nc", {}, section="demo")
+        text = io.write_text("x", tmp_path / "t.txt")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
+    assert stat.S_IMODE(text.stat().st_mode) == 0o644

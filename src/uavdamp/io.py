@@ -47,6 +47,16 @@ def check_metadata(ds: xr.Dataset) -> None:
         raise ValueError("NetCDF metadata missing: " + ", ".join(missing))
 
 
+def _temporary_beside(path: Path) -> str:
+    """A new empty file in `path`'s folder with the permissions a plain open() would give (umask)."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp" + path.suffix, dir=path.parent)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
+    return tmp
+
+
 def _json_default(value):
     if isinstance(value, np.generic):
         return value.item()
@@ -105,8 +115,7 @@ def write_netcdf(
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     out = with_provenance(ds, config, section=section, command=command)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
+    tmp = _temporary_beside(path)
     try:
         out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
         os.replace(tmp, path)
@@ -160,14 +169,27 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
+    tmp = _temporary_beside(path)
     try:
-        fig.savefig(tmp, dpi=dpi)
+        fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or None)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
     finally:
         plt.close(fig)
+    return path
+
+
+def write_text(text: str, path: str | os.PathLike) -> Path:
+    """Write a text file atomically (temporary file in the same folder, then rename)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = _temporary_beside(path)
+    try:
+        Path(tmp).write_text(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
     return path
