@@ -24,9 +24,11 @@ rule all:
         "reports/figures/platform_response.png",
         "reports/reference_table/table.nc",
         "reports/figures/reference_table.png",
+        "reports/anfis/model.nc",
 
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/helicopter.smk"
 include: "workflow/rules/platform.smk"
 include: "workflow/rules/reference_table.smk"
+include: "workflow/rules/anfis.smk"
