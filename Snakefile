@@ -25,6 +25,7 @@ rule all:
         "reports/reference_table/table.nc",
         "reports/figures/reference_table.png",
         "reports/anfis/model.nc",
+        "reports/study/comparison.nc",
 
 
 include: "workflow/rules/common.smk"
@@ -32,3 +33,4 @@ include: "workflow/rules/helicopter.smk"
 include: "workflow/rules/platform.smk"
 include: "workflow/rules/reference_table.smk"
 include: "workflow/rules/anfis.smk"
+include: "workflow/rules/study.smk"

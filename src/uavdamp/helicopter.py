@@ -122,6 +122,10 @@ class Helicopter:
         """The same helicopter with every main blade at its nominal mass."""
         return replace(self, imbalance_mass_factor=1.0)
 
+    def with_tail_rotor_speed(self, omega_rad_s: float) -> "Helicopter":
+        """The same helicopter with the tail rotor turning at `omega_rad_s`."""
+        return replace(self, tail_rotor=replace(self.tail_rotor, omega_rad_s=float(omega_rad_s)))
+
     def blade_masses(self) -> np.ndarray:
         """Mass of each main rotor blade, kg (the imbalanced one scaled)."""
         masses = np.full(self.main_rotor.n_blades, self.main_rotor.blade_mass)
@@ -139,7 +143,7 @@ def _floats(values) -> tuple[float, ...]:
 
 def _rotor_kwargs(cfg: dict, kind: type) -> dict:
     kwargs = {}
-    for name in kind.__dataclass_fields__:
+    for name in kind.__dataclass_fields__:  # other keys (tail omega_running_rad_s) are for the rules
         value = cfg[name]
         kwargs[name] = _floats(value) if isinstance(value, (list, tuple)) else value
     kwargs["n_blades"] = int(cfg["n_blades"])

@@ -6,7 +6,7 @@ rule helicopter_run:
     benchmark:
         "reports/benchmarks/helicopter_run_{rotor}.tsv"
     wildcard_constraints:
-        rotor="|".join(ROTORS),
+        rotor="|".join(RUNS),
     conda:
         ENV
     params:

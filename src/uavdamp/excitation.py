@@ -1,0 +1,90 @@
+"""Platform input cases from the helicopter's fuselage vibration.
+
+A case takes the first `duration` seconds of a helicopter run's mount-point displacement (y and z),
+removes the free fuselage's slow rigid-body drift with a zero-phase Butterworth high-pass (there is
+no aerodynamic restoring force in the model, so the fuselage wobbles at about 1 Hz; the rotor's
+vibration lies at 7-8 Hz), and scales each axis to a peak of `amplitude` (paper: 1.3 mm).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+from scipy.signal import butter, sosfiltfilt
+
+from uavdamp import spectrum
+
+AXES = ("y", "z")
+
+
+def high_pass(signal: np.ndarray, dt: float, cutoff_hz: float, order: int = 4) -> np.ndarray:
+    """Zero-phase Butterworth high-pass of `signal` sampled every `dt` s (cutoff in Hz)."""
+    if not 0 < cutoff_hz < 0.5 / dt:
+        raise ValueError(f"highpass_hz: {cutoff_hz} Hz must lie between 0 and the Nyquist frequency {0.5 / dt} Hz")
+    sos = butter(order, cutoff_hz, btype="highpass", fs=1.0 / dt, output="sos")
+    return sosfiltfilt(sos, signal)
+
+
+def spectral_width_hz(signal: np.ndarray, dt: float, min_freq_hz: float, max_freq_hz: float) -> float:
+    """RMS width (Hz) of the power spectrum around its centroid within the band: how wide a spectrum is."""
+    freq, amp = spectrum.amplitude_spectrum(signal, dt, zero_padding=4)
+    band = (freq >= min_freq_hz) & (freq <= max_freq_hz)
+    power = amp[band] ** 2
+    centre = np.sum(freq[band] * power) / np.sum(power)
+    return float(np.sqrt(np.sum((freq[band] - centre) ** 2 * power) / np.sum(power)))
+
+
+def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, highpass_hz: float,
+                  band_hz: tuple[float, float]) -> xr.Dataset:
+    """The study's inputs: `mount_displacement` (case, axis, time), m, one case per entry of `cases`
+    ({name: {"run": run name, "amplitude": m, "description": text}}), plus per case and axis the
+    scale applied, the dominant frequency and the spectral width in `band_hz` (Hz)."""
+    names = list(cases)
+    time = None
+    signals, scale, dominant, width = [], [], [], []
+    for name in names:
+        case = cases[name]
+        if case["run"] not in runs:
+            raise ValueError(f"study.cases.{name}.run: unknown helicopter run {case['run']!r} "
+                             f"(known: {sorted(runs)})")
+        run = runs[case["run"]]
+        t = run.time.values
+        keep = t <= duration + 1e-9
+        if t[keep][-1] < duration - 1e-9:
+            raise ValueError(f"study.duration: {duration} s is longer than the helicopter run ({t[-1]} s)")
+        dt = float(np.mean(np.diff(t)))
+        rows = []
+        for axis in AXES:
+            raw = high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep]
+            factor = float(case["amplitude"]) / np.max(np.abs(raw))
+            rows.append(factor * raw)
+            scale.append(factor)
+            dominant.append(spectrum.dominant_frequency(rows[-1], dt, min_freq_hz=band_hz[0], max_freq_hz=band_hz[1]))
+            width.append(spectral_width_hz(rows[-1], dt, *band_hz))
+        if time is not None and (time.size != keep.sum() or not np.allclose(time, t[keep])):
+            raise ValueError("helicopter runs of different cases are sampled differently")
+        time = t[keep]
+        signals.append(rows)
+    shape = (len(names), len(AXES))
+    return xr.Dataset(
+        {
+            "mount_displacement": (("case", "axis", "time"), np.asarray(signals),
+                                   {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"}),
+            "scale": (("case", "axis"), np.reshape(scale, shape),
+                      {"units": "1", "long_name": "factor from the high-passed helicopter signal to the input"}),
+            "dominant_freq": (("case", "axis"), np.reshape(dominant, shape),
+                              {"units": "Hz", "long_name": "dominant frequency of the whole input"}),
+            "spectral_width": (("case", "axis"), np.reshape(width, shape),
+                               {"units": "Hz", "long_name": "RMS width of the input's power spectrum in the band"}),
+            "amplitude": ("case", [float(cases[n]["amplitude"]) for n in names],
+                          {"units": "m", "long_name": "peak input displacement per axis"}),
+            "description": ("case", [str(cases[n].get("description", "")) for n in names],
+                            {"units": "1", "long_name": "case description"}),
+        },
+        coords={
+            "case": ("case", names, {"units": "1", "long_name": "input case"}),
+            "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
+            "time": ("time", time - time[0], {"units": "s", "long_name": "time"}),
+        },
+        attrs={"highpass_hz": highpass_hz, "duration_s": duration},
+    )

@@ -1,0 +1,27 @@
+"""Snakemake script: the closed-loop study -> comparison.nc and the paper-style figures."""
+
+from pathlib import Path
+
+from uavdamp import io, learning, study
+from uavdamp.plots import study as plots
+
+io.start_log(snakemake.log[0])
+cfg, fig = snakemake.params.study, snakemake.params.figures
+cases = io.open_dataset(snakemake.input.cases)
+model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
+ds = study.run_study(cases, snakemake.params.platform, model, study.StudyOptions.from_config(cfg))
+summary = (1e3 * ds[["peak_early", "std_total", "std_settled"]]).to_dataframe().round(4)
+io.log_info(f"metrics, mm:\n{summary.to_string()}")
+io.log_info(f"energy dissipated, J:\n{ds.energy_dissipated.to_dataframe().to_string()}")
+io.log_info(f"optimal passive damping, N s/m:\n{ds.optimal_damping.to_pandas()}")
+k_paper = float(ds.stiffness[0])
+io.save_figure(plots.rigid_mount_figure(ds, fig["case_1"], "y"), snakemake.output.fig10)
+io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_1"], "y", k_paper), snakemake.output.fig11)
+io.save_figure(plots.tracked_frequency_figure(ds, fig["case_2"], "z"), snakemake.output.fig12)
+io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_2"], "z", k_paper), snakemake.output.fig13)
+folder = Path(snakemake.output.strategies)
+folder.mkdir(parents=True, exist_ok=True)
+for case in ds.case.values:
+    io.save_figure(plots.strategies_figure(ds, str(case)), folder / f"{case}.png")
+config = {"study": cfg, "platform": snakemake.params.platform}
+io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=io.snakemake_command(snakemake))
