@@ -193,3 +193,17 @@ def write_text(text: str, path: str | os.PathLike) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def config_view(section: dict, *, drop=(), keep=None) -> dict:
+    """The keys of a config section a rule uses (all but `drop`, or only `keep`), canonical."""
+    return canonical({k: v for k, v in section.items() if k not in drop and (keep is None or k in keep)})
+
+
+def canonical(config):
+    """A config section with its mappings' keys sorted, at every depth (for Snakemake `params:`).
+
+    Snakemake compares params by their text, so the same values in another key order would look
+    like an edit and rerun the rule; sorted keys make a reordered YAML file change nothing.
+    """
+    return json.loads(json.dumps(config, sort_keys=True))

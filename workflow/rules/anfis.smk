@@ -23,6 +23,6 @@ rule anfis:
     conda:
         ENV
     params:
-        anfis=config["anfis"],
+        anfis=ANFIS,
     script:
         "../scripts/anfis_train.py"

@@ -26,7 +26,7 @@ rule helicopter_vibration:
     conda:
         ENV
     params:
-        helicopter=config["helicopter"],
+        helicopter=HELICOPTER,
         rotors=ROTORS,
     script:
         "../scripts/helicopter_vibration.py"

@@ -9,6 +9,6 @@ rule platform_modes:
     conda:
         ENV
     params:
-        platform=config["platform"],
+        platform=PLATFORM,
     script:
         "../scripts/platform_modes.py"

@@ -55,6 +55,6 @@ rule study:
     params:
         study=STUDY_RUNS,
         platform=PLATFORM_MODEL,
-        figures=config["study"]["figures"],
+        figures=STUDY_FIGURES,
     script:
         "../scripts/study.py"

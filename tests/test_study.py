@@ -1,0 +1,104 @@
+"""The closed-loop study: input cases, the comparison dataset, the rerun promise, the HTML report."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from conftest import snakemake
+from uavdamp import excitation, io
+
+
+def fake_run(duration=6.0, dt=0.005):
+    t = np.arange(0, duration + dt / 2, dt)
+    slow, fast = np.sin(2 * np.pi * 1.0 * t), 0.1 * np.sin(2 * np.pi * 7.0 * t)
+    disp = np.stack([np.zeros_like(t), 2e-2 * slow + fast, 1e-2 * slow + fast])
+    return xr.Dataset({"displacement": (("axis", "time"), disp)}, coords={"axis": ["x", "y", "z"], "time": t})
+
+
+def test_cases_high_pass_and_scale():
+    cases = {"a": {"run": "imbalanced", "amplitude": 1.3e-3}, "b": {"run": "imbalanced", "amplitude": 0.5e-3}}
+    ds = excitation.cases_dataset({"imbalanced": fake_run()}, cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
+    assert ds.mount_displacement.dims == ("case", "axis", "time")
+    assert float(ds.time[-1]) == pytest.approx(5.0)
+    peaks = np.abs(ds.mount_displacement).max("time")
+    np.testing.assert_allclose(peaks.sel(case="a"), 1.3e-3, rtol=1e-12)
+    np.testing.assert_allclose(peaks.sel(case="b"), 0.5e-3, rtol=1e-12)
+    # the 1 Hz drift is gone: what is left is the 7 Hz vibration
+    np.testing.assert_allclose(ds.dominant_freq, 7.0, rtol=0.01)
+    y = ds.mount_displacement.sel(case="a", axis="y").values
+    t = ds.time.values
+    fit = np.linalg.lstsq(np.column_stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t), np.sin(14 * np.pi * t),
+                                           np.cos(14 * np.pi * t)]), y, rcond=None)[0]
+    assert np.hypot(*fit[:2]) < 0.05 * np.hypot(*fit[2:])
+    with pytest.raises(ValueError, match="study.cases.c.run"):
+        excitation.cases_dataset({"imbalanced": fake_run()}, {"c": {"run": "nope", "amplitude": 1e-3}},
+                                 duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
+
+
+@pytest.fixture(scope="module")
+def comparison(quick_run):
+    return io.open_dataset(quick_run / "reports/study/comparison.nc")
+
+
+def test_comparison_layout(comparison, quick_config):
+    ds = comparison
+    assert ds.camera_displacement.dims == ("case", "stiffness", "strategy", "axis", "time")
+    assert ds.damping.dims == ("case", "stiffness", "strategy", "time")
+    assert ds.tracked_freq.dims == ("case", "axis", "update_time")
+    for name in ("peak_early", "std_total"):
+        assert ds[name].dims == ("case", "stiffness", "strategy", "axis") and ds[name].attrs["units"] == "m"
+    assert list(ds.strategy.values) == ["rigid", "passive", "optimal_passive", "anfis", "skyhook"]
+    assert list(ds.stiffness.values) == quick_config["study"]["stiffness"]
+    assert np.all(np.isnan(ds.damping.sel(strategy="rigid")))
+    assert np.all(np.isnan(ds.energy_dissipated.sel(strategy="rigid")))
+    assert np.all(ds.energy_dissipated.sel(strategy=["passive", "anfis", "skyhook"]) > 0)
+    # the metrics are what their names say
+    early = ds.camera_displacement.sel(time=slice(0, quick_config["study"]["early_s"] + 1e-9))
+    np.testing.assert_allclose(ds.peak_early, np.abs(early).max("time").transpose(*ds.peak_early.dims))
+    np.testing.assert_allclose(ds.std_total, ds.camera_displacement.std("time").transpose(*ds.std_total.dims))
+
+
+def test_semi_active_damping_is_piecewise_constant_within_bounds(comparison, quick_config):
+    iso = quick_config["platform"]["isolator"]
+    period = iso["update_period"]
+    time = comparison.time.values
+    c = comparison.damping.sel(strategy="anfis").values  # (case, stiffness, time)
+    assert np.all(np.isfinite(c))
+    assert np.all((c >= iso["damping_min"]) & (c <= iso["damping_max"]))
+    changes = np.flatnonzero(np.any(np.diff(c, axis=-1) != 0, axis=(0, 1))) + 1
+    on_update = np.isclose(time[changes] / period, np.round(time[changes] / period), atol=1e-9)
+    assert np.all(on_update), time[changes][~on_update]
+    skyhook = comparison.damping.sel(strategy="skyhook").values
+    assert set(np.unique(skyhook)) <= {iso["damping_min"], iso["damping_max"]}
+
+
+def test_tracked_frequencies_of_case1_sit_at_the_rotor_frequency(comparison):
+    """Case 1's lateral input is the 1/rev imbalance: 44.4 rad/s = 7.07 Hz (helicopter stage)."""
+    y = comparison.tracked_freq.sel(case="case1", axis="y").values
+    assert np.all(np.isnan(y[:1]) | (np.abs(y[:1] - 7.07) < 1.0))  # first update: may be too early
+    assert np.nanmedian(y) == pytest.approx(44.4 / (2 * np.pi), rel=0.03)
+
+
+def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
+    config = yaml.safe_load((quick_run / "config" / "quick.yaml").read_text())
+    config["anfis"]["epochs"] = config["anfis"]["epochs"] + 7
+    edited = quick_run / "config" / "quick_anfis_edit.yaml"
+    edited.write_text(yaml.safe_dump(config))
+    result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", str(edited.relative_to(quick_run)), timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    plan = result.stdout + result.stderr
+    table = plan[plan.index("job "):plan.index("total")]
+    planned = {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
+    assert planned == {"anfis", "study", "all"}, plan
+
+
+def test_html_report(quick_run):
+    result = snakemake(quick_run, "--report", "reports/report.html", "--configfile", "config/quick.yaml", timeout=600)
+    assert result.returncode == 0, result.stderr[-3000:]
+    html = (quick_run / "reports/report.html").read_text(errors="replace")
+    assert len(html) > 100_000
+    for name in ("study_fig10_rigid.png", "study_fig12_tracked_frequency.png", "anfis_membership.png", "rules.txt"):
+        assert name in html, name
