@@ -53,6 +53,8 @@ import scipy.linalg
 import xarray as xr
 from skfuzzy.cluster import cmeans
 
+from uavdamp.io import json_default
+
 MAX_RULES = 4096
 FCM_EXPONENT = 2.0  # fuzzifier m of fuzzy c-means (MATLAB genfis3 default)
 FCM_TOLERANCE = 1e-5
@@ -647,7 +649,7 @@ class ANFIS:
             "output_name": self.output_name,
             "output_units": out_u,
             "best_epoch": int(self.best_epoch_),
-            "hyperparameters": json.dumps(self.get_params(), default=_json_default),
+            "hyperparameters": json.dumps(self.get_params(), default=json_default),
         }
         return ds
 
@@ -679,14 +681,6 @@ class ANFIS:
         model.best_epoch_ = int(ds.attrs["best_epoch"])
         model._incidence_ = _incidence(model.rule_mf_, model.centres_.size)
         return model
-
-
-def _json_default(value):
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    raise TypeError(f"not JSON serialisable: {value!r}")
 
 
 def _same(a, b) -> bool:

@@ -57,7 +57,8 @@ def _temporary_beside(path: Path) -> str:
     return tmp
 
 
-def _json_default(value):
+def json_default(value):
+    """`json.dumps` default for NumPy scalars and arrays."""
     if isinstance(value, np.generic):
         return value.item()
     if isinstance(value, np.ndarray):
@@ -87,7 +88,7 @@ def with_provenance(ds: xr.Dataset, config: dict, *, section: str, command: str 
             "history": f"{stamp} {command}",
             "command": command,
             "package_versions": json.dumps(package_versions(), sort_keys=True),
-            f"config_{section}": json.dumps(config, sort_keys=True, default=_json_default),
+            f"config_{section}": json.dumps(config, sort_keys=True, default=json_default),
         }
     )
     return out
