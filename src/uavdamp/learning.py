@@ -59,8 +59,8 @@ class TableModel:
         kwargs = {name: options[name] for name in MODEL_OPTIONS if name in options}
         anfis = ANFIS(**kwargs, random_state=int(options["seed"]),
                       input_names=["f_y", "f_z", "log10_K" if log_k else "K"],
-                      input_units=["Hz", "Hz", "log10(N/m)" if log_k else "N/m"],
-                      output_name="log10_C" if log_c else "C", output_units="log10(N s/m)" if log_c else "N s/m")
+                      input_units=["Hz", "Hz", "1" if log_k else "N/m"],
+                      output_name="log10_C" if log_c else "C", output_units="1" if log_c else "N s/m")
         return cls(anfis, log_k, log_c)
 
     def inputs(self, X) -> np.ndarray:
@@ -80,7 +80,10 @@ class TableModel:
         return 10.0**raw if self.log_damping else raw
 
     def rules_text(self) -> str:
-        return self.anfis.rules_text()
+        """The rules in words, after a line saying what the log10 inputs and output are."""
+        logs = [text for on, text in ((self.log_stiffness, "log10_K = log10(K / (1 N/m))"),
+                                      (self.log_damping, "log10_C = log10(C / (1 N s/m))")) if on]
+        return ("; ".join(logs) + "\n" if logs else "") + self.anfis.rules_text()
 
     def to_dataset(self) -> xr.Dataset:
         ds = self.anfis.to_dataset()
