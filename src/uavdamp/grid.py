@@ -28,6 +28,7 @@ COORD_ATTRS = {
     "stiffness": {"units": "N m-1", "long_name": "isolator stiffness K"},
     "damping": {"units": "N s m-1", "long_name": "isolator damping C (constant)"},
 }
+FAILED_ATTRS = {"units": "1", "long_name": "1 where the solver failed (criterion NaN)"}
 
 
 def axis_values(spec: dict, key: str) -> np.ndarray:
@@ -194,7 +195,7 @@ def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int =
     point_attrs = {"units": "1", "long_name": "flat grid point index, C order over (freq_y, freq_z, stiffness, damping)"}
     return xr.Dataset(
         {"criterion": ("point", criterion, crit.CRITERION_ATTRS),
-         "failed": ("point", failed, {"units": "1", "long_name": "1 where the solver failed (criterion NaN)"})},
+         "failed": ("point", failed, FAILED_ATTRS)},
         coords={"point": ("point", indices, point_attrs)},
         attrs={"chunk": chunk, "n_chunks": n_chunks, "n_jobs": n_jobs, "n_failed": int(failed.sum()),
                "errors": json.dumps(errors), "build_time_s": sum(p["build_time"] for p in parts),
@@ -233,7 +234,7 @@ def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:
     errors = [e for ds in chunks for e in json.loads(ds.attrs.get("errors", "[]"))]
     return xr.Dataset(
         {"criterion": (DIMS, criterion.reshape(spec.shape), crit.CRITERION_ATTRS),
-         "failed": (DIMS, failed.reshape(spec.shape), {"units": "1", "long_name": "1 where the solver failed (criterion NaN)"})},
+         "failed": (DIMS, failed.reshape(spec.shape), FAILED_ATTRS)},
         coords=spec.coords(),
         attrs={"n_points": spec.size, "n_failed": int(failed.sum()), "errors": json.dumps(errors),
                "amplitude_m": spec.amplitude, "duration_s": spec.duration, "window_s": list(spec.window),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import logging
 import os
 import sys
 import tempfile
@@ -148,8 +149,6 @@ def snakemake_command(smk) -> str:
 
 def start_log(path: str | os.PathLike) -> None:
     """Send this process's log records, warnings, prints and tracebacks to `path` (a Snakemake `log:`)."""
-    import logging
-
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     sys.stderr = sys.stdout = open(path, "a", buffering=1)  # tracebacks and prints land in the log too
     logging.basicConfig(stream=sys.stderr, level=logging.INFO,
@@ -159,8 +158,6 @@ def start_log(path: str | os.PathLike) -> None:
 
 
 def log_info(message: str) -> None:
-    import logging
-
     logging.getLogger("uavdamp").info(message)
 
 

@@ -7,7 +7,6 @@ io.start_log(snakemake.log[0])
 spec = grid.GridSpec.from_config(snakemake.params.grid)
 full = grid.merge_chunks(spec, [io.open_dataset(path) for path in snakemake.input.chunks])
 table = criterion.reference_table(full, snakemake.params.flat_tolerance)
-table.attrs["n_failed_points"] = full.attrs["n_failed"]
 io.log_info(f"{full.attrs['n_points']} points, {full.attrs['n_failed']} failed; solver {full.attrs['solver_time_s']:.1f} s, "
             f"build {full.attrs['build_time_s']:.2f} s, workers {full.attrs['worker_time_s']:.1f} s")
 io.log_info(f"optimal damping spread per stiffness: {table.damping_opt_spread.values.round(2).tolist()}")
