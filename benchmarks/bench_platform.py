@@ -10,7 +10,8 @@ import time
 
 import yaml
 
-from uavdamp.platform import PlatformParams, PlatformSimulator, sine_input
+from uavdamp.excitation import sine_input
+from uavdamp.platform import ExudynPlant, PlatformParams
 
 DURATION = 5.0  # s, run length
 FREQ_Y_HZ, FREQ_Z_HZ = 7.0, 8.0  # near the paper's fuselage Y (44.04 rad/s) and Z (50.58 rad/s) peaks
@@ -18,7 +19,7 @@ AMPLITUDE = 1.3e-3  # m (paper)
 DAMPING = 2.0  # N s m-1, isolator damping of the timed runs
 
 
-def _timed(sim: PlatformSimulator) -> list[float]:
+def _timed(sim: ExudynPlant) -> list[float]:
     """Accumulate the time spent in the simulator's per-step Python into the returned one-element list."""
     spent = [0.0]
     prepare = sim._prepare_step
@@ -50,11 +51,11 @@ def main() -> None:
         builds, solves, totals, pre = [], [], [], []
         for _ in range(args.repeat):
             t0 = time.perf_counter()
-            sim = PlatformSimulator(params, mount=mount, body=body)
+            sim = ExudynPlant(params, mount=mount, body=body)
             builds.append(time.perf_counter() - t0)
             pre_step = _timed(sim)
             t0 = time.perf_counter()
-            sim.run(t, y, z, stiffness=params.isolator_stiffness, damping=DAMPING)
+            sim.run(t, y, z, stiffness=params.isolator_stiffness, law=DAMPING)
             totals.append(time.perf_counter() - t0)
             solves.append(sim.solve_time)
             pre.append(pre_step[0])
@@ -67,7 +68,7 @@ def main() -> None:
     print("\nNewton iterations, isolated platform, K = 10 N/m (Jacobian updates in brackets)")
     schedule = [2.0, 20.0] * int(DURATION / params.update_period / 2 + 1)
     for body in ("full", "lumped"):
-        sim = PlatformSimulator(params, body=body)
+        sim = ExudynPlant(params, body=body)
         counts = {}
         for label, damping, signal in (
             ("constant C = 2", 2.0, True),
@@ -76,7 +77,7 @@ def main() -> None:
             ("switched, no Jacobian signal", schedule, False),
         ):
             sim.signal_jacobian_update = signal
-            sim.run(t, y, z, stiffness=10.0, damping=damping)
+            sim.run(t, y, z, stiffness=10.0, law=damping)
             counts[label] = (sim.newton_iterations, sim.jacobian_updates)
         line = "; ".join(f"{k}: {n} ({j})" for k, (n, j) in counts.items())
         print(f"  {body}: {line}")

@@ -8,7 +8,8 @@ import xarray as xr
 import yaml
 
 from conftest import snakemake
-from uavdamp import excitation, io
+from uavdamp import excitation, io, laws, metrics, strategies, study
+from uavdamp.excitation import sine_input
 
 
 def fake_run(duration=6.0, dt=0.005):
@@ -50,8 +51,9 @@ def test_comparison_layout(comparison, quick_config):
     assert ds.tracked_freq.dims == ("case", "axis", "update_time")
     for name in ("peak_early", "std_total"):
         assert ds[name].dims == ("case", "stiffness", "strategy", "axis") and ds[name].attrs["units"] == "m"
-    assert list(ds.strategy.values) == ["rigid", "passive", "optimal_passive", "anfis", "skyhook"]
-    assert list(ds.stiffness.values) == quick_config["study"]["stiffness"]
+    assert list(ds.strategy.values) == quick_config["study"]["strategies"]
+    assert list(ds.stiffness.values) == quick_config["study"]["stiffness_n_m"]
+    assert ds.camera_yaw.dims == ds.camera_pitch.dims == ("case", "stiffness", "strategy", "time")
     assert np.all(np.isnan(ds.damping.sel(strategy="rigid")))
     assert np.all(np.isnan(ds.energy_dissipated.sel(strategy="rigid")))
     assert np.all(ds.energy_dissipated.sel(strategy=["passive", "anfis", "skyhook"]) > 0)
@@ -63,16 +65,16 @@ def test_comparison_layout(comparison, quick_config):
 
 def test_semi_active_damping_is_piecewise_constant_within_bounds(comparison, quick_config):
     iso = quick_config["platform"]["isolator"]
-    period = iso["update_period"]
+    period = iso["update_period_s"]
     time = comparison.time.values
     c = comparison.damping.sel(strategy="anfis").values  # (case, stiffness, time)
     assert np.all(np.isfinite(c))
-    assert np.all((c >= iso["damping_min"]) & (c <= iso["damping_max"]))
+    assert np.all((c >= iso["damping_min_n_s_m"]) & (c <= iso["damping_max_n_s_m"]))
     changes = np.flatnonzero(np.any(np.diff(c, axis=-1) != 0, axis=(0, 1))) + 1
     on_update = np.isclose(time[changes] / period, np.round(time[changes] / period), atol=1e-9)
     assert np.all(on_update), time[changes][~on_update]
     skyhook = comparison.damping.sel(strategy="skyhook").values
-    assert set(np.unique(skyhook)) <= {iso["damping_min"], iso["damping_max"]}
+    assert set(np.unique(skyhook)) <= {iso["damping_min_n_s_m"], iso["damping_max_n_s_m"]}
 
 
 def test_tracked_frequencies_of_case1_sit_at_the_rotor_frequency(comparison):
@@ -102,3 +104,46 @@ def test_html_report(quick_run):
     assert len(html) > 100_000
     for name in ("study_fig10_rigid.png", "study_fig12_tracked_frequency.png", "anfis_membership.png", "rules.txt"):
         assert name in html, name
+
+
+def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
+    """Adding a strategy or a metric is a function and its registration: the study output has them by name."""
+    monkeypatch.setattr(strategies, "REGISTRY", dict(strategies.REGISTRY))
+    monkeypatch.setattr(metrics, "REGISTRY", dict(metrics.REGISTRY))
+
+    @strategies.register("stiff_damper")
+    def stiff_damper(ctx):
+        return strategies.Strategy("stiff_damper", "isolated", laws.Constant(ctx.bounds.c_max),
+                                   {"stiff_c": (ctx.bounds.c_max, "N s m-1", "the stiff damper's C")})
+
+    @metrics.register("mean_base_y")
+    def mean_base_y(response, options):
+        return metrics._named(float(response.base_displacement.sel(axis="y").mean()), "m", "mean base y")
+
+    t, y, z = sine_input(7.0, 8.0, 1e-3, 0.6, 0.004)
+    cases = xr.Dataset({"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
+                       coords={"case": ("case", ["sine"], {"units": "1", "long_name": "case"}),
+                               "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
+                               "time": ("time", t, {"units": "s", "long_name": "time"})})
+    cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
+    options = study.StudyOptions.from_config({**cfg, "strategies": ["passive", "stiff_damper"], "stiffness_n_m": [50.0]})
+    platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
+    ds = study.run_study(cases, platform, None, options)
+    assert list(ds.strategy.values) == ["passive", "stiff_damper"]
+    c_max = quick_config["platform"]["isolator"]["damping_max_n_s_m"]
+    assert np.all(ds.damping.sel(strategy="stiff_damper") == c_max)
+    assert float(ds.stiff_c.sel(case="sine", stiffness=50.0)) == c_max
+    # the new metric is the mean of the base's y displacement: compare with a separate run of the same plant
+    from uavdamp.platform import ExudynPlant
+
+    base = ExudynPlant(platform).run(t, y, z, stiffness=50.0, law=c_max).base_displacement.sel(axis="y")
+    assert float(ds.mean_base_y.sel(case="sine", stiffness=50.0, strategy="stiff_damper")) == float(base.mean())
+    assert ds.mean_base_y.attrs["units"] == "m"
+
+
+def test_unknown_strategy_is_refused_naming_it(quick_config):
+    cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
+    with pytest.raises(ValueError, match=r"study.strategies: unknown strategy \['groundhook'\]"):
+        study.StudyOptions.from_config({**cfg, "strategies": ["passive", "groundhook"]})
+    with pytest.raises(ValueError, match="study.stiffness_n_m: values must be unique"):
+        study.StudyOptions.from_config({**cfg, "stiffness_n_m": [10.0, 10.0]})

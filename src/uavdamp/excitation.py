@@ -1,4 +1,4 @@
-"""Platform input cases from the helicopter's fuselage vibration.
+"""Platform inputs: mono-frequency sines, resampling onto a solver grid, and the cases from the helicopter.
 
 A case takes the first `duration` seconds of a helicopter run's mount-point displacement (y and z),
 removes the free fuselage's slow rigid-body drift with a zero-phase Butterworth high-pass (there is
@@ -7,6 +7,8 @@ vibration lies at 7-8 Hz), and scales each axis to a peak of `amplitude` (paper:
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import xarray as xr
@@ -51,7 +53,7 @@ def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, 
         t = run.time.values
         keep = t <= duration + 1e-9
         if t[keep][-1] < duration - 1e-9:
-            raise ValueError(f"study.duration: {duration} s is longer than the helicopter run ({t[-1]} s)")
+            raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s)")
         dt = float(np.mean(np.diff(t)))
         rows = []
         for axis in AXES:
@@ -88,3 +90,29 @@ def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, 
         },
         attrs={"highpass_hz": highpass_hz, "duration_s": duration},
     )
+
+
+def sine_input(freq_y_hz: float, freq_z_hz: float, amplitude: float, duration: float, time_step: float):
+    """Mono-frequency mount input: (time s, y m, z m) with y = A sin(2 pi f_y t), z likewise; A in m."""
+    t = np.arange(int(round(duration / time_step)) + 1) * time_step
+    return t, amplitude * np.sin(2 * np.pi * freq_y_hz * t), amplitude * np.sin(2 * np.pi * freq_z_hz * t)
+
+
+def on_grid(time, mount_y, mount_z, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Validated input resampled (linearly) onto the solver grid 0, h, 2h, ... <= time[-1] (s, m, m)."""
+    time = np.asarray(time, dtype=float)
+    mount_y = np.asarray(mount_y, dtype=float)
+    mount_z = np.asarray(mount_z, dtype=float)
+    if time.ndim != 1 or time.size < 2 or not np.all(np.diff(time) > 0):
+        raise ValueError("time must be 1-D, increasing, with at least 2 samples")
+    if abs(time[0]) > 1e-12:
+        raise ValueError(f"time must start at 0 s, got {time[0]}")
+    if mount_y.shape != time.shape or mount_z.shape != time.shape:
+        raise ValueError("mount_y and mount_z must have the shape of time")
+    if not (np.all(np.isfinite(mount_y)) and np.all(np.isfinite(mount_z))):
+        raise ValueError("mount_y and mount_z must be finite")
+    steps = int(math.floor(time[-1] / h + 1e-9))
+    if steps < 1:
+        raise ValueError(f"time must reach at least one time_step ({h} s)")
+    grid = np.arange(steps + 1) * h
+    return grid, np.interp(grid, time, mount_y), np.interp(grid, time, mount_z)

@@ -19,7 +19,9 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import criterion as crit
-from uavdamp.platform import PlatformParams, PlatformSimulator, SolverFailed, sine_input
+from uavdamp.contract import SolverFailed
+from uavdamp.excitation import sine_input
+from uavdamp.platform import ExudynPlant, PlatformParams
 
 DIMS = ("freq_y", "freq_z", "stiffness", "damping")
 COORD_ATTRS = {
@@ -122,25 +124,25 @@ def chunk_points(size: int, n_chunks: int, chunk: int) -> np.ndarray:
 
 # ------------------------------------------------------------------------------------------ workers
 
-_SIMULATORS: dict[str, PlatformSimulator] = {}  # one built model per worker process and platform config
+_SIMULATORS: dict[str, ExudynPlant] = {}  # one built model per worker process and platform config
 
 
-def _simulator(platform: dict) -> tuple[PlatformSimulator, float]:
+def _simulator(platform: dict) -> tuple[ExudynPlant, float]:
     """The worker's cached simulator for this platform config, and the build time it cost now (s)."""
     key = json.dumps(platform, sort_keys=True)
     if key in _SIMULATORS:
         return _SIMULATORS[key], 0.0
-    sim = PlatformSimulator(platform, mount="isolated")
+    sim = ExudynPlant(platform, mount="isolated")
     _SIMULATORS.clear()
     _SIMULATORS[key] = sim
     return sim, sim.build_time
 
 
-def evaluate(sim: PlatformSimulator, spec: GridSpec, point: tuple[float, float, float, float]) -> float:
+def evaluate(sim: ExudynPlant, spec: GridSpec, point: tuple[float, float, float, float]) -> float:
     """Criterion, m, of one grid point (raises SolverFailed if the solver stops)."""
     freq_y, freq_z, stiffness, damping = point
     t, y, z = sine_input(freq_y, freq_z, spec.amplitude, spec.duration, sim.params.time_step)
-    ds = sim.run(t, y, z, stiffness=stiffness, damping=damping)
+    ds = sim.run(t, y, z, stiffness=stiffness, law=damping)
     return crit.camera_criterion(ds.camera_displacement, spec.window)
 
 

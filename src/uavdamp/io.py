@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import logging
 import os
 import sys
 import tempfile
@@ -22,6 +21,7 @@ REFERENCE = (
 # CF (and the IOOS checker) require a coordinate named `time` to count from an epoch; the study's
 # clock starts at 0 s, so files carry a nominal epoch and `open_dataset` turns it back into seconds.
 TIME_UNITS = "s since 2000-01-01 00:00:00"
+PROVENANCE_ENV = "UAVDAMP_PROVENANCE"  # JSON set by the Snakefile (uavdamp.workflow.export_provenance)
 _VERSIONED = ("uavdamp", "numpy", "scipy", "exudyn", "xarray", "netCDF4", "joblib", "scikit-fuzzy", "snakemake")
 
 
@@ -48,14 +48,25 @@ def check_metadata(ds: xr.Dataset) -> None:
         raise ValueError("NetCDF metadata missing: " + ", ".join(missing))
 
 
-def _temporary_beside(path: Path) -> str:
-    """A new empty file in `path`'s folder with the permissions a plain open() would give (umask)."""
+def atomic_write(path: str | os.PathLike, write) -> Path:
+    """Call write(temporary path) in `path`'s folder, then rename it over `path`; nothing is left on failure.
+
+    The temporary file gets the permissions a plain open() would give (umask), not mkstemp's 0600.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp" + path.suffix, dir=path.parent)
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)
-    return tmp
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
 
 
 def json_default(value):
@@ -90,6 +101,7 @@ def with_provenance(ds: xr.Dataset, config: dict, *, section: str, command: str 
             "command": command,
             "package_versions": json.dumps(package_versions(), sort_keys=True),
             f"config_{section}": json.dumps(config, sort_keys=True, default=json_default),
+            **json.loads(os.environ.get(PROVENANCE_ENV, "{}")),
         }
     )
     return out
@@ -114,17 +126,9 @@ def write_netcdf(
     Raises ValueError before writing anything if a variable lacks `units` or `long_name`.
     """
     check_metadata(ds)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     out = with_provenance(ds, config, section=section, command=command)
-    tmp = _temporary_beside(path)
-    try:
-        out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return atomic_write(path, lambda tmp: out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
+                                                         encoding=_encoding(out)))
 
 
 def open_dataset(path: str | os.PathLike) -> xr.Dataset:
@@ -141,67 +145,16 @@ def read_config_attr(ds: xr.Dataset, section: str) -> dict:
     return json.loads(ds.attrs[f"config_{section}"])
 
 
-def snakemake_command(smk) -> str:
-    """A readable command for provenance: the rule and its wildcards as Snakemake ran them."""
-    wildcards = ", ".join(f"{k}={v}" for k, v in dict(smk.wildcards).items())
-    return f"snakemake rule {smk.rule}" + (f" [{wildcards}]" if wildcards else "")
-
-
-def start_log(path: str | os.PathLike) -> None:
-    """Send this process's log records, warnings, prints and tracebacks to `path` (a Snakemake `log:`)."""
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    sys.stderr = sys.stdout = open(path, "a", buffering=1)  # tracebacks and prints land in the log too
-    logging.basicConfig(stream=sys.stderr, level=logging.INFO,
-                        format="%(asctime)s %(levelname)s %(message)s", force=True)
-    logging.captureWarnings(True)
-    logging.getLogger("uavdamp").info("versions: %s", json.dumps(package_versions(), sort_keys=True))
-
-
-def log_info(message: str) -> None:
-    logging.getLogger("uavdamp").info(message)
-
-
 def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
-    """Save a matplotlib figure atomically (temporary file in the same folder, then rename) and close it."""
+    """Save a matplotlib figure atomically and close it."""
     import matplotlib.pyplot as plt
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _temporary_beside(path)
     try:
-        fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".") or None)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+        return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=Path(path).suffix.lstrip(".") or None))
     finally:
         plt.close(fig)
-    return path
 
 
 def write_text(text: str, path: str | os.PathLike) -> Path:
-    """Write a text file atomically (temporary file in the same folder, then rename)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _temporary_beside(path)
-    try:
-        Path(tmp).write_text(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
-def config_view(section: dict, *, drop=(), keep=None) -> dict:
-    """The keys of a config section a rule uses (all but `drop`, or only `keep`), canonical."""
-    return canonical({k: v for k, v in section.items() if k not in drop and (keep is None or k in keep)})
-
-
-def canonical(config):
-    """A config section with its mappings' keys sorted, at every depth (for Snakemake `params:`).
-
-    Snakemake compares params by their text, so the same values in another key order would look
-    like an edit and rerun the rule; sorted keys make a reordered YAML file change nothing.
-    """
-    return json.loads(json.dumps(config, sort_keys=True))
+    """Write a text file atomically."""
+    return atomic_write(path, lambda tmp: Path(tmp).write_text(text))

@@ -1,15 +1,8 @@
 """The closed-loop study: every input case, isolator stiffness and damping strategy, with metrics.
 
-Strategies (src/uavdamp/control.py), all within the same damper bounds:
-rigid (no isolator), passive (constant C from the config), optimal_passive (the best constant C
-for the case and stiffness, by the same criterion as the reference table), anfis (the paper's
-semi-active control: tracked f_y, f_z and K into the ANFIS, C updated every update period) and
-skyhook (Karnopp's on-off skyhook, switched every solver step).
-
-Metrics per (case, stiffness, strategy, axis): `peak_early`, the largest |camera displacement| up
-to `early_s` (paper: 0.5 s); `std_total`, its standard deviation over the whole run; `std_settled`,
-over [settle_s, end] (paper: both strategies converge after about 1 s); and per (case, stiffness,
-strategy) the energy the damper dissipated, sum over axes of the integral of C v_rel^2.
+For each case and stiffness, each strategy named in the config (``study.strategies``, `uavdamp.strategies`)
+runs on the plant of its mount; every registered metric (`uavdamp.metrics`) is applied to each run, and
+responses and metrics are stacked over (case, stiffness, strategy) with xarray.
 """
 
 from __future__ import annotations
@@ -19,127 +12,118 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from uavdamp import control, criterion, spectrum
-from uavdamp.platform import PlatformParams, PlatformSimulator
+from uavdamp import metrics, spectrum, strategies
+from uavdamp.config import load, require, setting
+from uavdamp.contract import MOUNTS
+from uavdamp.platform import ExudynPlant, PlatformParams
 
-STRATEGIES = ("rigid", "passive", "optimal_passive", "anfis", "skyhook")
+KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # response variables the study keeps
+
+
+@dataclass(frozen=True)
+class Tracking:
+    """The dominant-frequency tracker of the ANFIS controller (``study.tracking``), frequencies in Hz."""
+
+    window: float = setting("window_s")  # s, FFT window
+    min_freq_hz: float = setting()
+    max_freq_hz: float = setting()
+    min_cycles: float = setting()
+    zero_padding: int = setting()
+    initial_freq_hz: float = setting()  # Hz, assumed before the first estimate (the rotor's 1/rev)
+
+    def validate(self) -> None:
+        require(self.window > 0, "study.tracking.window_s", f"must be > 0, got {self.window}")
+        require(0 < self.min_freq_hz < self.max_freq_hz, "study.tracking.max_freq_hz",
+                f"need 0 < min_freq_hz ({self.min_freq_hz}) < max_freq_hz ({self.max_freq_hz})")
 
 
 @dataclass(frozen=True)
 class StudyOptions:
-    """The config's `study` section, less the cases (SI units, frequencies in Hz)."""
+    """The config's ``study`` section as the runs see it (cases, run length, filter and figures left out)."""
 
-    stiffness: tuple[float, ...]  # N m-1
-    passive_damping: float  # N s m-1
-    optimal_candidates: int  # number of log-spaced candidate C for the optimal passive search
-    early_s: float  # s
-    settle_s: float  # s
-    window: float  # s, tracking window
-    min_freq_hz: float
-    max_freq_hz: float
-    min_cycles: float
-    zero_padding: int
-    initial_freq_hz: float  # Hz, the frequency assumed before the first estimate (the rotor's 1/rev)
+    strategies: tuple[str, ...] = setting()
+    stiffness: tuple[float, ...] = setting("stiffness_n_m")  # N m-1
+    passive_damping: float = setting("passive_damping_n_s_m")  # N s m-1
+    optimal_candidates: int = setting()  # log-spaced candidate C of the optimal passive search
+    early_s: float = setting()  # s, end of the window of peak_early
+    settle_s: float = setting()  # s, start of the window of std_settled
+    tracking: Tracking = setting()
 
     @classmethod
-    def from_config(cls, cfg: dict) -> "StudyOptions":
-        track = cfg["tracking"]
-        return cls(stiffness=tuple(float(k) for k in cfg["stiffness"]), passive_damping=float(cfg["passive_damping"]),
-                   optimal_candidates=int(cfg["optimal_candidates"]), early_s=float(cfg["early_s"]),
-                   settle_s=float(cfg["settle_s"]), window=float(track["window"]),
-                   min_freq_hz=float(track["min_freq_hz"]), max_freq_hz=float(track["max_freq_hz"]),
-                   min_cycles=float(track["min_cycles"]), zero_padding=int(track["zero_padding"]),
-                   initial_freq_hz=float(track["initial_freq_hz"]))
+    def from_config(cls, cfg) -> StudyOptions:
+        return load(cls, cfg, "study")
+
+    def validate(self) -> None:
+        unknown = sorted(set(self.strategies) - set(strategies.REGISTRY))
+        require(not unknown, "study.strategies", f"unknown strategy {unknown} (known: {sorted(strategies.REGISTRY)})")
+        require(len(set(self.strategies)) == len(self.strategies), "study.strategies", "names must be unique")
+        require(len(set(self.stiffness)) == len(self.stiffness), "study.stiffness_n_m", "values must be unique")
 
 
-def _strategies(options: StudyOptions, params: PlatformParams, model, stiffness: float, run) -> tuple[list, dict]:
-    """The strategies for one case and stiffness; `run(strategy)` simulates one (for the optimum)."""
-    bounds = control.DamperBounds.from_params(params)
-    c_low = max(bounds.c_min, 1e-3)
-    candidates = np.geomspace(c_low, bounds.c_max, options.optimal_candidates)
-    optimum = control.optimal_passive(
-        lambda c: criterion.camera_criterion(run(control.passive(c, bounds)).camera_displacement,
-                                             (0.0, float("inf"))),
-        candidates, bounds)
-    c_initial = float(bounds.clip(model.predict([[options.initial_freq_hz, options.initial_freq_hz, stiffness]])[0]))
-    anfis = control.AnfisDamping(model, stiffness, bounds, c_initial, window=options.window,
-                                 min_freq_hz=options.min_freq_hz, max_freq_hz=options.max_freq_hz,
-                                 zero_padding=options.zero_padding, min_cycles=options.min_cycles)
-    strategies = [control.rigid(), control.passive(options.passive_damping, bounds), optimum.strategy(),
-                  anfis.strategy(), control.Skyhook(bounds, params.time_step).strategy()]
-    return strategies, {"optimal_damping": optimum.c, "anfis_initial_damping": c_initial}
-
-
-def run_study(cases: xr.Dataset, platform: dict, model, options: StudyOptions) -> xr.Dataset:
+def run_study(cases: xr.Dataset, platform, model, options: StudyOptions) -> xr.Dataset:
     """Simulate every case x stiffness x strategy; return the comparison dataset."""
     params = PlatformParams.from_config(platform)
-    simulators = {mount: PlatformSimulator(params, mount=mount) for mount in control.MOUNTS}
+    plants = {mount: ExudynPlant(params, mount=mount) for mount in MOUNTS}
     time = cases.time.values
-    n_case, n_k, n_s = cases.sizes["case"], len(options.stiffness), len(STRATEGIES)
-    camera = damping = energy = None
-    extras = {"optimal_damping": np.full((n_case, n_k), np.nan), "anfis_initial_damping": np.full((n_case, n_k), np.nan)}
-    for i, case in enumerate(cases.case.values):
-        y = cases.mount_displacement.sel(case=case, axis="y").values
-        z = cases.mount_displacement.sel(case=case, axis="z").values
-        for j, stiffness in enumerate(options.stiffness):
-            def run(strategy):
-                return simulators[strategy.mount].run(time, y, z, stiffness=stiffness, damping=strategy.damping,
-                                                      update_period=strategy.update_period)
+    per_case = []
+    for case in cases.case.values:
+        y, z = (cases.mount_displacement.sel(case=case, axis=a).values for a in ("y", "z"))
+        per_stiffness = []
+        for stiffness in options.stiffness:
+            def run(strategy, stiffness=stiffness, y=y, z=z):
+                return plants[strategy.mount].run(time, y, z, stiffness=stiffness, law=strategy.law)
 
-            strategies, found = _strategies(options, params, model, stiffness, run)
-            for key, value in found.items():
-                extras[key][i, j] = value
-            for s, strategy in enumerate(strategies):
-                out = run(strategy)
-                if camera is None:
-                    grid_time = out.time.values
-                    camera = np.full((n_case, n_k, n_s, 2, grid_time.size), np.nan)
-                    damping = np.full((n_case, n_k, n_s, grid_time.size), np.nan)
-                    energy = np.full((n_case, n_k, n_s), np.nan)
-                camera[i, j, s] = out.camera_displacement.values
-                damping[i, j, s] = out.damping.values
-                if strategy.mount == "isolated":
-                    v2 = (out.isolator_velocity.values ** 2).sum(axis=0)
-                    energy[i, j, s] = float(np.sum(out.damping.values[:-1] * v2[:-1]) * params.time_step)
-    ds = xr.Dataset(
-        {
-            "camera_displacement": (("case", "stiffness", "strategy", "axis", "time"), camera,
-                                    {"units": "m", "long_name": "camera displacement (inertial, from rest)"}),
-            "damping": (("case", "stiffness", "strategy", "time"), damping,
-                        {"units": "N s m-1", "long_name": "isolator damping applied from this time on (NaN: rigid)"}),
-            "energy_dissipated": (("case", "stiffness", "strategy"), energy,
-                                  {"units": "J", "long_name": "energy dissipated by the damper over the run"}),
-            "optimal_damping": (("case", "stiffness"), extras["optimal_damping"],
-                                {"units": "N s m-1", "long_name": "best constant damping for the case (optimal_passive)"}),
-            "anfis_initial_damping": (("case", "stiffness"), extras["anfis_initial_damping"],
-                                      {"units": "N s m-1", "long_name": "ANFIS damping before the first frequency estimate"}),
-            "mount_displacement": (("case", "axis", "time"),
-                                   cases.mount_displacement.interp(time=grid_time).values,
-                                   {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"}),
-        },
-        coords={
-            "case": cases.case,
-            "stiffness": ("stiffness", np.asarray(options.stiffness), {"units": "N m-1", "long_name": "isolator stiffness K"}),
-            "strategy": ("strategy", list(STRATEGIES), {"units": "1", "long_name": "damping strategy"}),
-            "axis": cases.axis,
-            "time": ("time", grid_time, {"units": "s", "long_name": "time"}),
-        },
-    )
-    ds = ds.merge(tracked_frequencies(cases, options, params.update_period))
-    return ds.merge(metrics(ds, options))
+            context = strategies.Context(options, params, model, float(stiffness), run)
+            per_stiffness.append(_one_case_and_stiffness(context, options.strategies))
+        per_case.append(_concat(per_stiffness, "stiffness"))
+    ds = _concat(per_case, "case")
+    return _finish(ds.transpose("case", "stiffness", "strategy", ...), cases, options, params)
+
+
+def _concat(datasets: list[xr.Dataset], dim: str) -> xr.Dataset:
+    """Datasets on the same time grid stacked along a new dimension `dim` (variable attributes from the first)."""
+    return xr.concat(datasets, dim=dim, data_vars="all", coords="minimal", compat="override", join="exact",
+                     combine_attrs="override")
+
+
+def _one_case_and_stiffness(context: strategies.Context, names) -> xr.Dataset:
+    """Runs and metrics of every strategy for one case and stiffness, stacked over `strategy`."""
+    runs, info = [], {}
+    for name in names:
+        strategy = strategies.build(name, context)
+        response = context.run(strategy)
+        runs.append(xr.merge([response[list(KEPT)], metrics.evaluate(response, context.options)]))
+        for key, (value, units, long_name) in strategy.info.items():
+            info[key] = ((), value, {"units": units, "long_name": long_name})
+    return _concat(runs, "strategy").assign(info)
+
+
+def _finish(ds: xr.Dataset, cases: xr.Dataset, options: StudyOptions, params: PlatformParams) -> xr.Dataset:
+    """Coordinate metadata, the input on the solver grid and the tracked frequencies."""
+    grid_time = ds.time.values
+    ds = ds.drop_vars([c for c in ds.coords if c not in ("case", "stiffness", "strategy", "axis", "time")])
+    ds = ds.assign_coords(
+        case=cases.case, axis=cases.axis,
+        stiffness=("stiffness", np.asarray(options.stiffness), {"units": "N m-1", "long_name": "isolator stiffness K"}),
+        strategy=("strategy", list(options.strategies), {"units": "1", "long_name": "damping strategy"}),
+        time=("time", grid_time, {"units": "s", "long_name": "time"}))
+    ds["mount_displacement"] = (("case", "axis", "time"), cases.mount_displacement.interp(time=grid_time).values,
+                                {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"})
+    ds.attrs = {}
+    return ds.merge(tracked_frequencies(cases, options, params.update_period))
 
 
 def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period: float) -> xr.Dataset:
     """`tracked_freq` (case, axis, update_time), Hz: what the ANFIS controller sees every update (s)."""
-    time = cases.time.values
+    time, t = cases.time.values, options.tracking
     rows, update = [], None
     for case in cases.case.values:
         row = []
         for axis in cases.axis.values:
             update, freq = spectrum.track_dominant(
                 time, cases.mount_displacement.sel(case=case, axis=axis).values, update_period=update_period,
-                window=options.window, min_freq_hz=options.min_freq_hz, max_freq_hz=options.max_freq_hz,
-                zero_padding=options.zero_padding, min_cycles=options.min_cycles)
+                window=t.window, min_freq_hz=t.min_freq_hz, max_freq_hz=t.max_freq_hz,
+                zero_padding=t.zero_padding, min_cycles=t.min_cycles)
             row.append(freq)
         rows.append(row)
     return xr.Dataset(
@@ -147,19 +131,3 @@ def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period:
                           {"units": "Hz", "long_name": "dominant input frequency tracked at each update (NaN: too early)"})},
         coords={"update_time": ("update_time", update, {"units": "s", "long_name": "damping update time"})},
     )
-
-
-def metrics(ds: xr.Dataset, options: StudyOptions) -> xr.Dataset:
-    """peak_early, std_total and std_settled (case, stiffness, strategy, axis), m."""
-    cam = ds.camera_displacement
-    early = cam.sel(time=slice(0.0, options.early_s + 1e-9))
-    settled = cam.sel(time=slice(options.settle_s, None))
-    dims = ("case", "stiffness", "strategy", "axis")
-    return xr.Dataset({
-        "peak_early": (dims, np.abs(early).max("time").transpose(*dims).values,
-                       {"units": "m", "long_name": f"largest |camera displacement| up to {options.early_s} s"}),
-        "std_total": (dims, cam.std("time").transpose(*dims).values,
-                      {"units": "m", "long_name": "standard deviation of the camera displacement, whole run"}),
-        "std_settled": (dims, settled.std("time").transpose(*dims).values,
-                        {"units": "m", "long_name": f"standard deviation of the camera displacement after {options.settle_s} s"}),
-    })

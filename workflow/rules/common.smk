@@ -1,7 +1,7 @@
 # Shared by the rule files: the config views each rule's params receive. A view holds only what the
-# rule uses, with sorted keys (uavdamp.io.config_view), so an edit reruns exactly the stages it
+# rule uses, with sorted keys (uavdamp.workflow.config_view), so an edit reruns exactly the stages it
 # affects and reordering a YAML file reruns nothing.
-from uavdamp.io import canonical, config_view
+from uavdamp.workflow import canonical, config_view
 
 ROTORS = ["balanced", "imbalanced"]  # rotor states of the vibration stage
 RUNS = ROTORS + [
@@ -18,9 +18,9 @@ REFERENCE_GRID = config_view(
 )
 ANFIS = canonical(config["anfis"])
 STUDY_EXCITATION = config_view(
-    config["study"], keep=["cases", "duration", "highpass_hz", "tracking"]
+    config["study"], keep=["cases", "duration_s", "highpass_hz", "tracking"]
 )
 STUDY_RUNS = config_view(
-    config["study"], drop=["cases", "duration", "highpass_hz", "figures"]
+    config["study"], drop=["cases", "duration_s", "highpass_hz", "figures"]
 )
 STUDY_FIGURES = canonical(config["study"]["figures"])

@@ -6,9 +6,9 @@ import os
 # that joblib's worker processes load the same module and give bit-identical numbers.
 os.environ.setdefault("EXUDYN_MODULE", "fast")
 
-from uavdamp import helicopter, io  # noqa: E402
+from uavdamp import helicopter, io, workflow  # noqa: E402
 
-io.start_log(snakemake.log[0])
+workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.helicopter
 heli = helicopter.Helicopter.from_config(cfg)
 if snakemake.wildcards.rotor == "balanced":
@@ -16,5 +16,5 @@ if snakemake.wildcards.rotor == "balanced":
 elif snakemake.wildcards.rotor == "both_rotors":
     heli = heli.with_tail_rotor_speed(cfg["tail_rotor"]["omega_running_rad_s"])
 ds = helicopter.run(heli, helicopter.SolverOptions.from_config(cfg["solver"]))
-io.log_info(f"{snakemake.wildcards.rotor}: {ds.attrs}")
-io.write_netcdf(ds, snakemake.output[0], cfg, section="helicopter", command=io.snakemake_command(snakemake))
+workflow.log_info(f"{snakemake.wildcards.rotor}: {ds.attrs}")
+io.write_netcdf(ds, snakemake.output[0], cfg, section="helicopter", command=workflow.snakemake_command(snakemake))

@@ -1,10 +1,11 @@
 """Snakemake script: platform modes (reports/platform/modes.nc) and the rigid-vs-isolated response figure."""
 
-from uavdamp import io
-from uavdamp.platform import PlatformParams, PlatformSimulator, modes_dataset, sine_input
+from uavdamp import io, workflow
+from uavdamp.excitation import sine_input
+from uavdamp.platform import ExudynPlant, PlatformParams, modes_dataset
 from uavdamp.plots.platform import response_figure
 
-io.start_log(snakemake.log[0])
+workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.platform
 params = PlatformParams.from_config(cfg)
 response = params.response
@@ -13,18 +14,18 @@ if response is None:
 
 modes = modes_dataset(params)
 for f, target in zip(modes.natural_frequency.values, modes.target_frequency.values):
-    io.log_info(f"mode {f:.4f} Hz (target {target:.2f} Hz, {100 * (f / target - 1):+.3f} %)")
+    workflow.log_info(f"mode {f:.4f} Hz (target {target:.2f} Hz, {100 * (f / target - 1):+.3f} %)")
 
 time, y, z = sine_input(response.freq_y_hz, response.freq_z_hz, response.amplitude, response.duration, params.time_step)
 runs = {}
 for mount in ("rigid", "isolated"):
-    sim = PlatformSimulator(params, mount=mount)
-    runs[mount] = sim.run(time, y, z, damping=response.damping)
+    plant = ExudynPlant(params, mount=mount)
+    runs[mount] = plant.run(time, y, z, law=response.damping)
     peak = abs(runs[mount].camera_displacement).max("time").values
-    io.log_info(
-        f"{mount} mount: build {sim.build_time:.4f} s, solve {sim.solve_time:.3f} s, "
-        f"{sim.newton_iterations} Newton iterations, peak camera |y|, |z| = {peak} m"
+    workflow.log_info(
+        f"{mount} mount: build {plant.build_time:.4f} s, solve {plant.solve_time:.3f} s, "
+        f"{plant.newton_iterations} Newton iterations, peak camera |y|, |z| = {peak} m"
     )
 label = f"y {response.freq_y_hz:g} Hz, z {response.freq_z_hz:g} Hz, {response.amplitude * 1e3:g} mm"
 io.save_figure(response_figure(runs["rigid"], runs["isolated"], modes, input_label=label), snakemake.output.figure)
-io.write_netcdf(modes, snakemake.output.modes, cfg, section="platform", command=io.snakemake_command(snakemake))
+io.write_netcdf(modes, snakemake.output.modes, cfg, section="platform", command=workflow.snakemake_command(snakemake))

@@ -6,9 +6,9 @@ import os
 # that joblib's worker processes load the same module and give bit-identical numbers.
 os.environ.setdefault("EXUDYN_MODULE", "fast")
 
-from uavdamp import grid, io  # noqa: E402
+from uavdamp import grid, io, workflow  # noqa: E402
 
-io.start_log(snakemake.log[0])
+workflow.start_log(snakemake.log[0])
 item = snakemake.wildcards.scatteritem  # "i-of-N"
 if os.environ.get("UAVDAMP_FAIL_CHUNK") == item:  # lets tests and cluster checks fail one chunk on purpose
     raise RuntimeError(f"chunk {item} failed on purpose (UAVDAMP_FAIL_CHUNK)")
@@ -16,11 +16,11 @@ chunk, n_chunks = (int(v) for v in item.split("-of-"))
 spec = grid.GridSpec.from_config(snakemake.params.grid)
 platform = snakemake.params.platform
 spec.check_damper_bounds(grid.PlatformParams.from_config(platform))
-io.log_info(f"chunk {item}: {len(grid.chunk_points(spec.size, n_chunks, chunk - 1))} of {spec.size} points, "
+workflow.log_info(f"chunk {item}: {len(grid.chunk_points(spec.size, n_chunks, chunk - 1))} of {spec.size} points, "
             f"{snakemake.threads} workers, SLURM job {os.environ.get('SLURM_JOB_ID', 'none')}")
 ds = grid.run_chunk(platform, spec, n_chunks=n_chunks, chunk=chunk - 1, n_jobs=snakemake.threads, progress=True)
-io.log_info(f"chunk {item}: {ds.attrs['n_failed']} failed; build {ds.attrs['build_time_s']:.2f} s, "
+workflow.log_info(f"chunk {item}: {ds.attrs['n_failed']} failed; build {ds.attrs['build_time_s']:.2f} s, "
             f"solver {ds.attrs['solver_time_s']:.2f} s, workers {ds.attrs['worker_time_s']:.2f} s, "
             f"wall {ds.attrs['wall_time_s']:.2f} s")
 config = {"reference_table": snakemake.params.grid, "platform": platform}
-io.write_netcdf(ds, snakemake.output[0], config, section="reference_table", command=io.snakemake_command(snakemake))
+io.write_netcdf(ds, snakemake.output[0], config, section="reference_table", command=workflow.snakemake_command(snakemake))

@@ -2,18 +2,16 @@
 
 from pathlib import Path
 
-from uavdamp import io, learning, study
+from uavdamp import io, learning, metrics, study, workflow
 from uavdamp.plots import study as plots
 
-io.start_log(snakemake.log[0])
+workflow.start_log(snakemake.log[0])
 cfg, fig = snakemake.params.study, snakemake.params.figures
 cases = io.open_dataset(snakemake.input.cases)
 model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
 ds = study.run_study(cases, snakemake.params.platform, model, study.StudyOptions.from_config(cfg))
-summary = (1e3 * ds[["peak_early", "std_total", "std_settled"]]).to_dataframe().round(4)
-io.log_info(f"metrics, mm:\n{summary.to_string()}")
-io.log_info(f"energy dissipated, J:\n{ds.energy_dissipated.to_dataframe().to_string()}")
-io.log_info(f"optimal passive damping, N s/m:\n{ds.optimal_damping.to_pandas()}")
+for name in metrics.REGISTRY:
+    workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 k_paper = float(ds.stiffness[0])
 io.save_figure(plots.rigid_mount_figure(ds, fig["case_1"], "y"), snakemake.output.fig10)
 io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_1"], "y", k_paper), snakemake.output.fig11)
@@ -24,4 +22,4 @@ folder.mkdir(parents=True, exist_ok=True)
 for case in ds.case.values:
     io.save_figure(plots.strategies_figure(ds, str(case)), folder / f"{case}.png")
 config = {"study": cfg, "platform": snakemake.params.platform}
-io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=io.snakemake_command(snakemake))
+io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=workflow.snakemake_command(snakemake))

@@ -17,7 +17,7 @@ def response_figure(
 ) -> Figure:
     """Camera displacement in y and z (mm) against time for a rigid and an isolated mount.
 
-    rigid, isolated: datasets from `PlatformSimulator.run` with the same input;
+    rigid, isolated: responses of `ExudynPlant.run` (or any plant) to the same input;
     modes: optional `modes_dataset`, whose frequencies go into the title;
     input_label: a description of the input for the title (e.g. "7 Hz, 1.3 mm").
     """

@@ -11,6 +11,15 @@ import xarray as xr  # noqa: E402
 
 COLOURS = {"rigid": "tab:gray", "passive": "tab:red", "optimal_passive": "tab:orange", "anfis": "tab:blue",
            "skyhook": "tab:green"}
+_OTHERS = ("tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "black")
+
+
+def colour(strategy: str, names=()) -> str:
+    """The colour of a strategy: fixed for the paper's ones, else by its position among the others in `names`."""
+    if strategy in COLOURS:
+        return COLOURS[strategy]
+    others = [str(n) for n in names if str(n) not in COLOURS] or [strategy]
+    return _OTHERS[others.index(strategy) % len(_OTHERS)] if strategy in others else _OTHERS[0]
 
 
 def _mm(da: xr.DataArray) -> np.ndarray:
@@ -40,9 +49,9 @@ def passive_vs_anfis_figure(ds: xr.Dataset, case: str, axis: str, stiffness: flo
     fig, (ax, axc) = plt.subplots(2, 1, figsize=(8, 5), sharex=True, height_ratios=[3, 1.3], constrained_layout=True)
     for strategy in ("passive", "anfis"):
         peak = 1e3 * float(ds.peak_early.sel(case=case, stiffness=stiffness, strategy=strategy, axis=axis))
-        ax.plot(part.time, _mm(part.camera_displacement.sel(strategy=strategy, axis=axis)), color=COLOURS[strategy],
+        ax.plot(part.time, _mm(part.camera_displacement.sel(strategy=strategy, axis=axis)), color=colour(strategy),
                 lw=1.1, label=f"{strategy} (peak before 0.5 s: {peak:.3f} mm)")
-        axc.step(part.time, part.damping.sel(strategy=strategy), where="post", color=COLOURS[strategy])
+        axc.step(part.time, part.damping.sel(strategy=strategy), where="post", color=colour(strategy))
     ax.axvline(0.5, color="0.3", ls="--", lw=0.6)
     ax.set(ylabel=f"camera {axis.upper()} (mm)", title=f"{case}, K = {stiffness:g} N/m: passive vs ANFIS semi-active")
     ax.legend(fontsize=8)
@@ -72,7 +81,7 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 3.0):
             ax = axes[row, col]
             for strategy in ds.strategy.values:
                 ax.plot(part.time, _mm(part.camera_displacement.sel(stiffness=k, strategy=strategy, axis=axis)),
-                        color=COLOURS.get(str(strategy)), lw=0.9, label=str(strategy))
+                        color=colour(str(strategy), ds.strategy.values), lw=0.9, label=str(strategy))
             ax.set(xlabel="time (s)", ylabel=f"camera {axis.upper()} (mm)", title=f"K = {k:g} N/m, {axis.upper()}")
             if row == 0 and col == 0:
                 ax.legend(fontsize=7)
@@ -80,7 +89,7 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 3.0):
         for strategy in ds.strategy.values:
             if strategy != "rigid":
                 ax.step(part.time, part.damping.sel(stiffness=k, strategy=strategy), where="post",
-                        color=COLOURS.get(str(strategy)), lw=0.9, label=str(strategy))
+                        color=colour(str(strategy), ds.strategy.values), lw=0.9, label=str(strategy))
         ax.set(xlabel="time (s)", ylabel="C (N s/m)", yscale="log", title=f"K = {k:g} N/m: damping")
         ax = axes[row, 3]
         names = [str(s) for s in ds.strategy.values]

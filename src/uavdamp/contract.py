@@ -1,0 +1,128 @@
+"""The contract between a plant, a damping law and a metric: the place a new contributor starts.
+
+    scenario (mount input y(t), z(t), m) --> Plant.run(time, mount_y, mount_z, stiffness=K, law=law)
+                                                 |   every update period: Observation --> law --> demand C
+                                                 |   (the plant clips the demand to the damper bounds: `clip`)
+                                                 v
+                                    response xarray.Dataset (RESPONSE_VARIABLES) --> metrics --> numbers
+
+Plant: anything with ``mount`` ("isolated" or "rigid") and ``run(time, mount_y, mount_z, *, stiffness=None,
+law=None) -> xarray.Dataset``: it runs the prescribed mount displacement (time s from 0, y and z in m) with
+isolator stiffness K (N m-1) under a damping law and returns the response dataset below. The rigid mount has no
+isolator: it ignores K and the law, and its damping is NaN. Plants: `uavdamp.platform.ExudynPlant` (Exudyn time
+stepping, the reference).
+
+DampingLaw: anything with ``name``, ``update_period`` (s, or None for the platform's configured period),
+``reset()`` (called by the plant at the start of every run) and ``__call__(observation) -> float``, the damping
+demand in N s m-1. The plant calls it at t = 0, P, 2P, ... (P the update period); the value returned at t_k acts
+from t_k on (the state at t_k is still that of the old C). A law may return any finite number: the plant clips it
+to [damping_min, damping_max] in one place (`clip`); a non-finite demand is an error. Laws: `uavdamp.laws`.
+
+Metric: a function of a response dataset (and the study's options) registered by name in `uavdamp.metrics`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+import xarray as xr
+
+AXES = ("y", "z")
+MOUNTS = ("isolated", "rigid")
+
+# name: (dims, units, long_name) of every variable a plant's response carries
+RESPONSE_VARIABLES = {
+    "camera_displacement": (("axis", "time"), "m", "camera displacement (inertial, from rest position)"),
+    "camera_yaw": (("time",), "rad", "camera yaw angle: line-of-sight azimuth (the base only translates)"),
+    "camera_pitch": (("time",), "rad", "camera pitch angle: line-of-sight elevation (the base only translates)"),
+    "damping": (("time",), "N s m-1", "isolator damping applied from this time on (NaN: rigid mount)"),
+    "mount_displacement": (("axis", "time"), "m", "prescribed fuselage displacement at the mount"),
+    "base_displacement": (("axis", "time"), "m", "platform base displacement (inertial)"),
+    "isolator_velocity": (("axis", "time"), "m s-1", "isolator stroke rate (base velocity relative to the mount)"),
+}
+
+
+class SolverFailed(RuntimeError):
+    """A plant did not reach the end of a run (e.g. Newton did not converge)."""
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What a damping law sees at an update time t_now (s): all up to and including t_now.
+
+    time (s), mount_y and mount_z (m): the fuselage input on the solver grid so far (read-only views);
+    base_velocity and mount_velocity (m s-1, (y, z), inertial), stroke (m, base - mount displacement, (y, z)):
+    the state at t_now. `stroke_rate` is base_velocity - mount_velocity.
+    """
+
+    t_now: float
+    time: np.ndarray
+    mount_y: np.ndarray
+    mount_z: np.ndarray
+    base_velocity: np.ndarray
+    mount_velocity: np.ndarray
+    stroke: np.ndarray
+
+    @property
+    def stroke_rate(self) -> np.ndarray:
+        return self.base_velocity - self.mount_velocity
+
+
+@runtime_checkable
+class DampingLaw(Protocol):
+    name: str
+    update_period: float | None
+
+    def reset(self) -> None: ...
+
+    def __call__(self, observation: Observation) -> float: ...
+
+
+@runtime_checkable
+class Plant(Protocol):
+    mount: str
+
+    def run(self, time, mount_y, mount_z, *, stiffness: float | None = None, law=None) -> xr.Dataset: ...
+
+
+@dataclass(frozen=True)
+class DamperBounds:
+    """Damper bounds, N s m-1: c_min <= C <= c_max."""
+
+    c_min: float
+    c_max: float
+
+    def __post_init__(self):
+        if not (math.isfinite(self.c_min) and math.isfinite(self.c_max) and 0 <= self.c_min <= self.c_max):
+            raise ValueError(f"damper bounds: need 0 <= c_min <= c_max, finite, got {self.c_min}, {self.c_max}")
+
+    @classmethod
+    def from_params(cls, params) -> DamperBounds:
+        """The bounds of a `PlatformParams` (isolator damping_min, damping_max)."""
+        return cls(float(params.damping_min), float(params.damping_max))
+
+    def contains(self, c: float) -> bool:
+        return bool(self.c_min <= c <= self.c_max)
+
+
+def clip(demand: float, bounds: DamperBounds, t_now: float) -> float:
+    """The damping a damper gives for a demand, N s m-1: the demand clipped to the bounds (the one place)."""
+    c = float(demand)
+    if not math.isfinite(c):
+        raise ValueError(f"damping: the law returned the non-finite value {c} at t = {t_now} s")
+    return min(max(c, bounds.c_min), bounds.c_max)
+
+
+def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dict) -> xr.Dataset:
+    """A plant's response dataset from arrays named and shaped as in RESPONSE_VARIABLES (all of them)."""
+    missing = sorted(set(RESPONSE_VARIABLES) - set(values))
+    if missing:
+        raise ValueError(f"response: missing variable(s) {missing}")
+    data = {name: (dims, values[name], {"units": units, "long_name": long_name})
+            for name, (dims, units, long_name) in RESPONSE_VARIABLES.items()}
+    coords = {"time": ("time", time, {"units": "s", "long_name": "time"}),
+              "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"})}
+    return xr.Dataset(data, coords=coords, attrs=attrs)

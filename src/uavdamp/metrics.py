@@ -1,0 +1,71 @@
+"""Metrics by name: functions from one run's response dataset (`uavdamp.contract`) to numbers.
+
+A metric takes the response and the study's options and returns an `xarray.DataArray` with `units` and
+`long_name`: a scalar, or over ``axis`` (y, z). The study applies every registered metric to every run and
+concatenates them with xarray. Adding a metric is one function with ``@register("name")`` and its tests.
+
+    peak_early         largest |camera displacement| up to early_s (paper: 0.5 s), per axis, m
+    std_total          standard deviation of the camera displacement over the run (1/N), per axis, m
+    std_settled        the same after settle_s (paper: "both converge after about 1 s"), per axis, m
+    energy_dissipated  energy the damper dissipated, sum over axes of the integral of C v_rel^2 dt, J
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import xarray as xr
+
+from uavdamp import registry
+
+REGISTRY: dict[str, Callable] = {}
+
+
+def register(name: str):
+    """Register a metric function under `name` (decorator)."""
+    return registry.add(REGISTRY, "metric", name)
+
+
+def evaluate(response: xr.Dataset, options) -> xr.Dataset:
+    """Every registered metric of one run, as a dataset of scalars and per-axis values."""
+    out = {}
+    for name, fn in REGISTRY.items():
+        value = fn(response, options)
+        if not {"units", "long_name"} <= set(value.attrs):
+            raise ValueError(f"metric {name!r} returned no units or long_name")
+        out[name] = value
+    return xr.Dataset(out)
+
+
+def _named(value, units: str, long_name: str) -> xr.DataArray:
+    value = value if isinstance(value, xr.DataArray) else xr.DataArray(value)
+    return value.drop_vars(list(value.coords)).assign_attrs(units=units, long_name=long_name)
+
+
+@register("peak_early")
+def peak_early(response: xr.Dataset, options) -> xr.DataArray:
+    early = response.camera_displacement.sel(time=slice(0.0, options.early_s + 1e-9))
+    return _named(np.abs(early).max("time"), "m", f"largest |camera displacement| up to {options.early_s} s")
+
+
+@register("std_total")
+def std_total(response: xr.Dataset, options) -> xr.DataArray:
+    return _named(response.camera_displacement.std("time"), "m",
+                  "standard deviation of the camera displacement, whole run")
+
+
+@register("std_settled")
+def std_settled(response: xr.Dataset, options) -> xr.DataArray:
+    settled = response.camera_displacement.sel(time=slice(options.settle_s, None))
+    return _named(settled.std("time"), "m", f"standard deviation of the camera displacement after {options.settle_s} s")
+
+
+@register("energy_dissipated")
+def energy_dissipated(response: xr.Dataset, options) -> xr.DataArray:
+    """sum over axes of sum_n C_n v_n^2 dt (C held over each step: left-point rule); NaN for the rigid mount."""
+    time = response.time.values
+    v2 = (response.isolator_velocity.values**2).sum(axis=0)
+    c = response.damping.values
+    energy = float(np.sum(c[:-1] * v2[:-1]) * (time[1] - time[0]))
+    return _named(energy, "J", "energy dissipated by the damper over the run")

@@ -1,0 +1,148 @@
+"""Damping strategies by name: how the study builds a mount and a damping law for one case and stiffness.
+
+A strategy factory takes a `Context` and returns a `Strategy`: the mount ("rigid" or "isolated"), the damping
+law (`uavdamp.laws`; None for the rigid mount) and `info`, named scalars worth keeping (stored by the study as
+variables over (case, stiffness)). Factories are registered by name with `@register("name")`; the study's list
+comes from the config (``study.strategies``). Adding a strategy is one factory, its registration and its tests.
+
+    rigid            no isolator (the base follows the fuselage)
+    passive          constant C from the config
+    optimal_passive  the constant C minimising the criterion for this case: grid, then bounded refinement
+    anfis            the paper's semi-active ANFIS: tracked f_y, f_z and K -> C, every update period
+    skyhook          Karnopp's on-off skyhook between the damper bounds, every solver step
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+from uavdamp import criterion, laws, registry, spectrum
+from uavdamp.contract import DamperBounds
+
+REGISTRY: dict[str, Callable] = {}
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """What one strategy hands to a plant: mount, law, and named scalars {name: (value, units, long_name)}."""
+
+    name: str
+    mount: str
+    law: object | None
+    info: dict = field(default_factory=dict)
+
+
+@dataclass
+class Context:
+    """What a strategy factory may use: the study's options, the platform, the model, K, and a trial run.
+
+    run(strategy) -> response dataset simulates a strategy on this case and stiffness (for searches).
+    """
+
+    options: object  # uavdamp.study.StudyOptions
+    params: object  # uavdamp.platform.PlatformParams
+    model: object  # the trained table model: predict([[f_y Hz, f_z Hz, K N/m]]) -> C N s/m
+    stiffness: float  # N m-1
+    run: Callable
+
+    @property
+    def bounds(self) -> DamperBounds:
+        return DamperBounds.from_params(self.params)
+
+
+def register(name: str):
+    """Register a strategy factory under `name` (decorator)."""
+    return registry.add(REGISTRY, "strategy", name)
+
+
+def build(name: str, context: Context) -> Strategy:
+    """The named strategy for this context; ValueError names an unknown strategy."""
+    if name not in REGISTRY:
+        raise ValueError(f"study.strategies: unknown strategy {name!r} (known: {sorted(REGISTRY)})")
+    strategy = REGISTRY[name](context)
+    return strategy if strategy.name == name else Strategy(name, strategy.mount, strategy.law, strategy.info)
+
+
+@register("rigid")
+def rigid(ctx: Context) -> Strategy:
+    return Strategy("rigid", "rigid", None)
+
+
+@register("passive")
+def passive(ctx: Context) -> Strategy:
+    c = float(ctx.options.passive_damping)
+    if not ctx.bounds.contains(c):
+        raise ValueError(f"study.passive_damping_n_s_m: {c} is outside [{ctx.bounds.c_min}, {ctx.bounds.c_max}]")
+    return Strategy("passive", "isolated", laws.Constant(c))
+
+
+@register("optimal_passive")
+def optimal_passive(ctx: Context) -> Strategy:
+    bounds = ctx.bounds
+    candidates = np.geomspace(max(bounds.c_min, 1e-3), bounds.c_max, ctx.options.optimal_candidates)
+
+    def cost(c: float) -> float:
+        response = ctx.run(Strategy("trial", "isolated", laws.Constant(c)))
+        return criterion.camera_criterion(response.camera_displacement, (0.0, math.inf))
+
+    c_best, _ = best_constant(cost, candidates, bounds)
+    info = {"optimal_damping": (c_best, "N s m-1", "best constant damping for the case (optimal_passive)")}
+    return Strategy("optimal_passive", "isolated", laws.Constant(c_best), info)
+
+
+@register("anfis")
+def anfis(ctx: Context) -> Strategy:
+    o = ctx.options.tracking
+    initial = ctx.model.predict([[o.initial_freq_hz, o.initial_freq_hz, ctx.stiffness]])[0]
+    c_initial = min(max(float(initial), ctx.bounds.c_min), ctx.bounds.c_max)
+    track = functools.partial(_track, window=o.window, min_freq_hz=o.min_freq_hz, max_freq_hz=o.max_freq_hz,
+                              zero_padding=o.zero_padding, min_cycles=o.min_cycles)
+    info = {"anfis_initial_damping": (c_initial, "N s m-1", "ANFIS damping before the first frequency estimate")}
+    return Strategy("anfis", "isolated", laws.AnfisLaw(ctx.model, ctx.stiffness, c_initial, track), info)
+
+
+def _track(time, signal, t_now, *, window, **options) -> float:
+    return spectrum.dominant_frequency_causal(time, signal, t_now, window, **options)
+
+
+@register("skyhook")
+def skyhook(ctx: Context) -> Strategy:
+    return Strategy("skyhook", "isolated", laws.Skyhook(ctx.bounds.c_max, ctx.bounds.c_min, ctx.params.time_step))
+
+
+def best_constant(cost: Callable[[float], float], candidates: Sequence[float], bounds: DamperBounds, *,
+                  xatol_log: float = 0.01, maxiter: int = 20) -> tuple[float, float]:
+    """The constant C (N s m-1) minimising cost(C), and its cost: the candidates first, then a refinement.
+
+    candidates: > 0 and within the bounds (e.g. a log grid). The refinement is scipy's bounded Brent search
+    (`minimize_scalar(method="bounded")`) in log C between the neighbours of the best candidate, to `xatol_log`
+    in log C (0.01: 1 % in C) within `maxiter` evaluations. Each C is evaluated once; a non-finite cost counts
+    as +inf; among equal costs the smallest C wins.
+    """
+    grid = np.unique(np.asarray(candidates, dtype=float))
+    if grid.size < 2:
+        raise ValueError("candidates: need at least 2 distinct values")
+    if grid[0] <= 0 or not (bounds.contains(grid[0]) and bounds.contains(grid[-1])):
+        raise ValueError(f"candidates must be > 0 and within [{bounds.c_min}, {bounds.c_max}] N s m-1")
+    cache: dict[float, float] = {}
+
+    def evaluate(c: float) -> float:
+        c = min(max(float(c), bounds.c_min), bounds.c_max)
+        if c not in cache:
+            value = float(cost(c))
+            cache[c] = value if math.isfinite(value) else math.inf
+        return cache[c]
+
+    values = np.array([evaluate(c) for c in grid])
+    k = int(np.argmin(values))
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    minimize_scalar(lambda log_c: evaluate(math.exp(log_c)), bounds=(math.log(lo), math.log(hi)), method="bounded",
+                    options={"xatol": xatol_log, "maxiter": maxiter})
+    c_best, value_best = min(cache.items(), key=lambda e: (e[1], e[0]))
+    return c_best, value_best

@@ -1,0 +1,76 @@
+"""Snakemake glue for the rules and their scripts: config views, logging, the command for provenance.
+
+Nothing here is physics: the rules call `config_view`/`canonical` to hand each job exactly the config it uses,
+and the scripts call `start_log`, `log_info` and `snakemake_command`.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from uavdamp.io import PROVENANCE_ENV, package_versions
+
+
+def snakemake_command(smk) -> str:
+    """A readable command for provenance: the rule and its wildcards as Snakemake ran them."""
+    wildcards = ", ".join(f"{k}={v}" for k, v in dict(smk.wildcards).items())
+    return f"snakemake rule {smk.rule}" + (f" [{wildcards}]" if wildcards else "")
+
+
+def start_log(path: str | os.PathLike) -> None:
+    """Send this process's log records, warnings, prints and tracebacks to `path` (a Snakemake `log:`)."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    sys.stderr = sys.stdout = open(path, "a", buffering=1)  # tracebacks and prints land in the log too
+    logging.basicConfig(stream=sys.stderr, level=logging.INFO,
+                        format="%(asctime)s %(levelname)s %(message)s", force=True)
+    logging.captureWarnings(True)
+    logging.getLogger("uavdamp").info("versions: %s", json.dumps(package_versions(), sort_keys=True))
+
+
+def log_info(message: str) -> None:
+    logging.getLogger("uavdamp").info(message)
+
+
+def config_view(section: dict, *, drop=(), keep=None) -> dict:
+    """The keys of a config section a rule uses (all but `drop`, or only `keep`), canonical."""
+    return canonical({k: v for k, v in section.items() if k not in drop and (keep is None or k in keep)})
+
+
+def canonical(config):
+    """A config section with its mappings' keys sorted, at every depth (for Snakemake `params:`).
+
+    Snakemake compares params by their text, so the same values in another key order would look
+    like an edit and rerun the rule; sorted keys make a reordered YAML file change nothing.
+    """
+    return json.loads(json.dumps(config, sort_keys=True))
+
+
+def _git(basedir: str, *args: str) -> str | None:
+    try:
+        out = subprocess.run(["git", "-C", basedir, *args], capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return None
+    return out.stdout.strip() if out.returncode == 0 else None
+
+
+def export_provenance(configfiles, basedir: str, argv=None) -> dict:
+    """Put the run's provenance where every job's `uavdamp.io.write_netcdf` finds it (an environment variable).
+
+    git commit of `basedir` and whether its tree had uncommitted changes ("unknown" outside a git work tree),
+    the full Snakemake command line, the config files in the order Snakemake merged them.
+    """
+    commit = _git(basedir, "rev-parse", "HEAD")
+    status = _git(basedir, "status", "--porcelain", "--untracked-files=no") if commit else None
+    provenance = {
+        "git_commit": commit or "unknown",
+        "git_tree_dirty": "unknown" if status is None else ("yes" if status else "no"),
+        "command_line": " ".join(sys.argv if argv is None else argv),
+        "config_files": json.dumps([str(f) for f in configfiles]),
+    }
+    os.environ[PROVENANCE_ENV] = json.dumps(provenance)
+    return provenance
