@@ -2,9 +2,10 @@
 
 Tracking (the paper's FFT blocks, Fig. 8): at every update time t_k = k P (k = 1, 2, ...) the
 dominant frequency of the last `window` seconds of samples up to and including t_k. The estimate at
-t_k never uses a sample after t_k. `dominant_frequency_causal` is the single-window estimate that
-both `track_dominant` and the controllers in `uavdamp.control` call, so that the tracked values and
-the values a controller used are the same numbers.
+t_k never uses a sample after t_k. `dominant_frequency_causal` is the single-window FFT estimate
+that `track_dominant` and `uavdamp.tracking.frequency_causal` (method "fft") call, so that the
+tracked values and the values a controller used are the same numbers; `causal_segment` is the window
+every estimator takes.
 """
 
 from __future__ import annotations
