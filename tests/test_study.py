@@ -20,7 +20,8 @@ def fake_run(duration=6.0, dt=0.005):
 
 
 def test_cases_high_pass_and_scale():
-    cases = {"a": {"run": "imbalanced", "amplitude": 1.3e-3}, "b": {"run": "imbalanced", "amplitude": 0.5e-3}}
+    peak = {"amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
+    cases = {"a": {"run": "imbalanced", "amplitude": 1.3e-3, **peak}, "b": {"run": "imbalanced", "amplitude": 0.5e-3, **peak}}
     ds = excitation.cases_dataset({"imbalanced": fake_run()}, cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
     assert ds.mount_displacement.dims == ("case", "axis", "time")
     assert float(ds.time[-1]) == pytest.approx(5.0)
@@ -35,7 +36,7 @@ def test_cases_high_pass_and_scale():
                                            np.cos(14 * np.pi * t)]), y, rcond=None)[0]
     assert np.hypot(*fit[:2]) < 0.05 * np.hypot(*fit[2:])
     with pytest.raises(ValueError, match="study.cases.c.run"):
-        excitation.cases_dataset({"imbalanced": fake_run()}, {"c": {"run": "nope", "amplitude": 1e-3}},
+        excitation.cases_dataset({"imbalanced": fake_run()}, {"c": {"run": "nope", "amplitude": 1e-3, **peak}},
                                  duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
 
 

@@ -3,7 +3,12 @@
 A case takes the first `duration` seconds of a helicopter run's mount-point displacement (y and z),
 removes the free fuselage's slow rigid-body drift with a zero-phase Butterworth high-pass (there is
 no aerodynamic restoring force in the model, so the fuselage wobbles at about 1 Hz; the rotor's
-vibration lies at 7-8 Hz), and scales each axis to a peak of `amplitude` (paper: 1.3 mm).
+vibration lies at 7-8 Hz), and scales it so that a reading of its amplitude equals the case's
+`amplitude` (paper: 1.3 mm). Readings: "peak", the largest |displacement|; "dominant", the amplitude
+of the dominant spectral line in the band (the paper's inputs are mono-frequency sines of a given
+amplitude). Scalings: "per_axis", each axis to the amplitude (the helicopter's Y/Z ratio is lost);
+"common", one factor for both axes, set by the axis with the larger reading (choice: the amplitude
+is the input's, whichever axis carries it), which keeps the helicopter's Y/Z ratio.
 """
 
 from __future__ import annotations
@@ -17,6 +22,8 @@ from scipy.signal import butter, sosfiltfilt
 from uavdamp import spectrum
 
 AXES = ("y", "z")
+READINGS = ("peak", "dominant")
+SCALINGS = ("per_axis", "common")
 
 
 def high_pass(signal: np.ndarray, dt: float, cutoff_hz: float, order: int = 4) -> np.ndarray:
@@ -36,32 +43,77 @@ def spectral_width_hz(signal: np.ndarray, dt: float, min_freq_hz: float, max_fre
     return float(np.sqrt(np.sum((freq[band] - centre) ** 2 * power) / np.sum(power)))
 
 
+def dominant_line_amplitude(signal: np.ndarray, dt: float, min_freq_hz: float, max_freq_hz: float, *,
+                            zero_padding: int = 16) -> float:
+    """Amplitude (the signal's unit) of the largest line in [min_freq_hz, max_freq_hz] Hz: the peak of the
+    Hann-windowed amplitude spectrum with the window's coherent gain divided out (`spectrum.amplitude_spectrum`),
+    zero-padded `zero_padding` times so that the peak lies within 1 / (2 zero_padding) bin of the line (Hann
+    scalloping loss there: 0.06 % at 16). Lines nearer than about 2 / record length blend."""
+    freq, amp = spectrum.amplitude_spectrum(signal, dt, zero_padding=zero_padding)
+    band = (freq >= min_freq_hz) & (freq <= max_freq_hz)
+    if not np.any(band):
+        raise ValueError(f"band_hz: [{min_freq_hz}, {max_freq_hz}] Hz holds no spectral bin")
+    return float(np.max(amp[band]))
+
+
+def amplitude_reading(signal: np.ndarray, dt: float, reading: str, band_hz: tuple[float, float]) -> float:
+    """The signal's amplitude as `reading` reads it: "peak" (max |signal|) or "dominant"
+    (`dominant_line_amplitude` in band_hz, Hz)."""
+    if reading == "peak":
+        return float(np.max(np.abs(signal)))
+    return dominant_line_amplitude(signal, dt, *band_hz)
+
+
+def _case_choice(case: dict, name: str, key: str, choices: tuple[str, ...]) -> str:
+    value = case.get(key)
+    if value not in choices:
+        raise ValueError(f"study.cases.{name}.{key}: must be one of {choices}, got {value!r}")
+    return value
+
+
+def scale_factors(raw: dict[str, np.ndarray], dt: float, *, amplitude: float, reading: str, scaling: str,
+                  band_hz: tuple[float, float]) -> dict[str, float]:
+    """Per axis, the factor that brings the high-passed `raw` signals (axis -> array) to `amplitude` under
+    `reading`: "per_axis" scales every axis to it, "common" scales both by the factor of the larger reading."""
+    readings = {axis: amplitude_reading(x, dt, reading, band_hz) for axis, x in raw.items()}
+    if scaling == "common":
+        common = amplitude / max(readings.values())
+        return {axis: common for axis in raw}
+    return {axis: amplitude / value for axis, value in readings.items()}
+
+
 def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, highpass_hz: float,
                   band_hz: tuple[float, float]) -> xr.Dataset:
     """The study's inputs: `mount_displacement` (case, axis, time), m, one case per entry of `cases`
-    ({name: {"run": run name, "amplitude": m, "description": text}}), plus per case and axis the
-    scale applied, the dominant frequency and the spectral width in `band_hz` (Hz)."""
+    ({name: {"run": run name, "amplitude": m, "amplitude_reading": "peak" | "dominant",
+    "amplitude_scaling": "per_axis" | "common", "description": text}}), plus per case and axis the
+    scale applied, the dominant frequency, the dominant line's amplitude and the spectral width in
+    `band_hz` (Hz); the "dominant" reading looks for its line in `band_hz`."""
     names = list(cases)
     time = None
-    signals, scale, dominant, width = [], [], [], []
+    signals, scale, dominant, width, line = [], [], [], [], []
     for name in names:
         case = cases[name]
         if case["run"] not in runs:
             raise ValueError(f"study.cases.{name}.run: unknown helicopter run {case['run']!r} "
                              f"(known: {sorted(runs)})")
+        reading = _case_choice(case, name, "amplitude_reading", READINGS)
+        scaling = _case_choice(case, name, "amplitude_scaling", SCALINGS)
         run = runs[case["run"]]
         t = run.time.values
         keep = t <= duration + 1e-9
         if t[keep][-1] < duration - 1e-9:
             raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s)")
         dt = float(np.mean(np.diff(t)))
+        raw = {axis: high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
+        factors = scale_factors(raw, dt, amplitude=float(case["amplitude"]), reading=reading, scaling=scaling,
+                                band_hz=band_hz)
         rows = []
         for axis in AXES:
-            raw = high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep]
-            factor = float(case["amplitude"]) / np.max(np.abs(raw))
-            rows.append(factor * raw)
-            scale.append(factor)
+            rows.append(factors[axis] * raw[axis])
+            scale.append(factors[axis])
             dominant.append(spectrum.dominant_frequency(rows[-1], dt, min_freq_hz=band_hz[0], max_freq_hz=band_hz[1]))
+            line.append(dominant_line_amplitude(rows[-1], dt, *band_hz))
             width.append(spectral_width_hz(rows[-1], dt, *band_hz))
         if time is not None and (time.size != keep.sum() or not np.allclose(time, t[keep])):
             raise ValueError("helicopter runs of different cases are sampled differently")
@@ -78,8 +130,14 @@ def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, 
                               {"units": "Hz", "long_name": "dominant frequency of the whole input"}),
             "spectral_width": (("case", "axis"), np.reshape(width, shape),
                                {"units": "Hz", "long_name": "RMS width of the input's power spectrum in the band"}),
+            "dominant_amplitude": (("case", "axis"), np.reshape(line, shape),
+                                   {"units": "m", "long_name": "amplitude of the input's dominant line in the band"}),
             "amplitude": ("case", [float(cases[n]["amplitude"]) for n in names],
-                          {"units": "m", "long_name": "peak input displacement per axis"}),
+                          {"units": "m", "long_name": "input amplitude as read by amplitude_reading"}),
+            "amplitude_reading": ("case", [cases[n]["amplitude_reading"] for n in names],
+                                  {"units": "1", "long_name": "reading of the amplitude: peak or dominant line"}),
+            "amplitude_scaling": ("case", [cases[n]["amplitude_scaling"] for n in names],
+                                  {"units": "1", "long_name": "scaling: per axis or one factor for both axes"}),
             "description": ("case", [str(cases[n].get("description", "")) for n in names],
                             {"units": "1", "long_name": "case description"}),
         },

@@ -2,9 +2,10 @@
 
 Tracking (the paper's FFT blocks, Fig. 8): at every update time t_k = k P (k = 1, 2, ...) the
 dominant frequency of the last `window` seconds of samples up to and including t_k. The estimate at
-t_k never uses a sample after t_k. `dominant_frequency_causal` is the single-window estimate that
-both `track_dominant` and the controllers in `uavdamp.control` call, so that the tracked values and
-the values a controller used are the same numbers.
+t_k never uses a sample after t_k. `dominant_frequency_causal` is the single-window FFT estimate
+that `track_dominant` and `uavdamp.tracking.frequency_causal` (method "fft") call, so that the
+tracked values and the values a controller used are the same numbers; `causal_segment` is the window
+every estimator takes.
 """
 
 from __future__ import annotations
@@ -106,6 +107,37 @@ def required_span(window: float, min_freq_hz: float, min_cycles: float) -> float
     return float(min(window, min_cycles / min_freq_hz))
 
 
+def causal_segment(time: np.ndarray, signal: np.ndarray, t_now: float, window: float, *, min_freq_hz: float = 0.0,
+                   min_cycles: float = 2.0) -> tuple[np.ndarray, float] | None:
+    """(segment, dt s): the last `window` s of `signal` up to and including t_now, or None if too short.
+
+    The window semantics every causal estimator shares: only samples with time <= t_now, at most
+    round(window / dt) of them, i.e. those in (t_now - window, t_now]; at the start of the record all
+    of them, provided they span at least `required_span(window, min_freq_hz, min_cycles)` s (n samples
+    span n dt) and number at least 4. time: s, uniform step dt.
+    """
+    time = np.asarray(time, dtype=float)
+    x = np.asarray(signal, dtype=float)
+    if time.ndim != 1 or time.shape != x.shape or time.size < 1:
+        raise ValueError("time and signal: need 1-D arrays of the same length")
+    if not window > 0:
+        raise ValueError(f"window: must be positive, got {window}")
+    if time.size < 4:
+        return None
+    dt = time[1] - time[0]
+    if not dt > 0:
+        raise ValueError("time: must increase")
+    end = int(np.searchsorted(time, t_now + 1e-6 * dt, side="right"))
+    start = max(0, end - max(int(round(window / dt)), 1))
+    n = end - start
+    if n < 4 or n * dt < required_span(window, min_freq_hz, min_cycles) - 1e-6 * dt:
+        return None
+    steps = np.diff(time[start:end])
+    if np.any(np.abs(steps - dt) > 1e-6 * dt):
+        raise ValueError("time: the sampling must be uniform")
+    return x[start:end], float(dt)
+
+
 def dominant_frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float, window: float, *,
                               min_freq_hz: float = 0.0, max_freq_hz: float = np.inf, zero_padding: int = 8,
                               min_cycles: float = 2.0, detrend: str = "linear", refine: bool = True) -> float:
@@ -115,7 +147,7 @@ def dominant_frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float
     (causal), at most round(window / dt) of them, i.e. those in (t_now - window, t_now]. While
     fewer samples exist (start of the record) all of them are used, provided they span at least
     `required_span(window, min_freq_hz, min_cycles)` s (n samples span n dt); before that, and at
-    t_now = time[0] (one sample), the result is NaN. The segment is detrended (default: its
+    t_now = time[0] (one sample), the result is NaN (`causal_segment`). The segment is detrended (default: its
     least-squares line, so a slow drift of the fuselage does not leak into the band), Hann-windowed,
     zero-padded `zero_padding` times and its peak in [min_freq_hz, max_freq_hz] interpolated
     (see `dominant_frequency`); with refine=True the peak is then refined by a least-squares sine fit
@@ -123,26 +155,10 @@ def dominant_frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float
     from 0.7 % to 0.4 %, and on 0.5 s from 10 % to 1.2 %). NaN also for a constant segment or a band
     without bins.
     """
-    time = np.asarray(time, dtype=float)
-    x = np.asarray(signal, dtype=float)
-    if time.ndim != 1 or time.shape != x.shape or time.size < 1:
-        raise ValueError("time and signal: need 1-D arrays of the same length")
-    if not window > 0:
-        raise ValueError(f"window: must be positive, got {window}")
-    if time.size < 4:
+    found = causal_segment(time, signal, t_now, window, min_freq_hz=min_freq_hz, min_cycles=min_cycles)
+    if found is None:
         return float("nan")
-    dt = time[1] - time[0]
-    if not dt > 0:
-        raise ValueError("time: must increase")
-    end = int(np.searchsorted(time, t_now + 1e-6 * dt, side="right"))
-    start = max(0, end - max(int(round(window / dt)), 1))
-    n = end - start
-    if n < 4 or n * dt < required_span(window, min_freq_hz, min_cycles) - 1e-6 * dt:
-        return float("nan")
-    steps = np.diff(time[start:end])
-    if np.any(np.abs(steps - dt) > 1e-6 * dt):
-        raise ValueError("time: the sampling must be uniform")
-    segment = x[start:end]
+    segment, dt = found
     freq_hz = dominant_frequency(segment, dt, min_freq_hz=min_freq_hz, max_freq_hz=max_freq_hz,
                                  zero_padding=zero_padding, detrend=detrend)
     if refine and np.isfinite(freq_hz):

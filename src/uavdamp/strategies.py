@@ -8,7 +8,7 @@ comes from the config (``study.strategies``). Adding a strategy is one factory, 
     rigid            no isolator (the base follows the fuselage)
     passive          constant C from the config
     optimal_passive  the constant C minimising the criterion for this case: grid, then bounded refinement
-    anfis            the paper's semi-active ANFIS: tracked f_y, f_z and K -> C, every update period
+    anfis            the paper's semi-active ANFIS: tracked f_y, f_z (study.tracking.method) and K -> C, every update
     skyhook          Karnopp's on-off skyhook between the damper bounds, every solver step
 """
 
@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from uavdamp import criterion, laws, registry, spectrum
+from uavdamp import criterion, laws, registry, tracking
 from uavdamp.contract import DamperBounds
 
 REGISTRY: dict[str, Callable] = {}
@@ -101,14 +101,9 @@ def anfis(ctx: Context) -> Strategy:
     o = ctx.options.tracking
     initial = ctx.model.predict([[o.initial_freq_hz, o.initial_freq_hz, ctx.stiffness]])[0]
     c_initial = min(max(float(initial), ctx.bounds.c_min), ctx.bounds.c_max)
-    track = functools.partial(_track, window=o.window, min_freq_hz=o.min_freq_hz, max_freq_hz=o.max_freq_hz,
-                              zero_padding=o.zero_padding, min_cycles=o.min_cycles)
+    track = functools.partial(tracking.frequency_causal, options=o)
     info = {"anfis_initial_damping": (c_initial, "N s m-1", "ANFIS damping before the first frequency estimate")}
     return Strategy("anfis", "isolated", laws.AnfisLaw(ctx.model, ctx.stiffness, c_initial, track), info)
-
-
-def _track(time, signal, t_now, *, window, **options) -> float:
-    return spectrum.dominant_frequency_causal(time, signal, t_now, window, **options)
 
 
 @register("skyhook")

@@ -12,29 +12,13 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from uavdamp import metrics, spectrum, strategies
+from uavdamp import metrics, strategies, tracking
 from uavdamp.config import load, require, setting
 from uavdamp.contract import MOUNTS
 from uavdamp.platform import ExudynPlant, PlatformParams
+from uavdamp.tracking import TrackerOptions
 
 KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # response variables the study keeps
-
-
-@dataclass(frozen=True)
-class Tracking:
-    """The dominant-frequency tracker of the ANFIS controller (``study.tracking``), frequencies in Hz."""
-
-    window: float = setting("window_s")  # s, FFT window
-    min_freq_hz: float = setting()
-    max_freq_hz: float = setting()
-    min_cycles: float = setting()
-    zero_padding: int = setting()
-    initial_freq_hz: float = setting()  # Hz, assumed before the first estimate (the rotor's 1/rev)
-
-    def validate(self) -> None:
-        require(self.window > 0, "study.tracking.window_s", f"must be > 0, got {self.window}")
-        require(0 < self.min_freq_hz < self.max_freq_hz, "study.tracking.max_freq_hz",
-                f"need 0 < min_freq_hz ({self.min_freq_hz}) < max_freq_hz ({self.max_freq_hz})")
 
 
 @dataclass(frozen=True)
@@ -47,7 +31,7 @@ class StudyOptions:
     optimal_candidates: int = setting()  # log-spaced candidate C of the optimal passive search
     early_s: float = setting()  # s, end of the window of peak_early
     settle_s: float = setting()  # s, start of the window of std_settled
-    tracking: Tracking = setting()
+    tracking: TrackerOptions = setting()
 
     @classmethod
     def from_config(cls, cfg) -> StudyOptions:
@@ -114,20 +98,19 @@ def _finish(ds: xr.Dataset, cases: xr.Dataset, options: StudyOptions, params: Pl
 
 
 def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period: float) -> xr.Dataset:
-    """`tracked_freq` (case, axis, update_time), Hz: what the ANFIS controller sees every update (s)."""
-    time, t = cases.time.values, options.tracking
+    """`tracked_freq` (case, axis, update_time), Hz: what the ANFIS law sees every update (s)."""
+    time = cases.time.values
     rows, update = [], None
     for case in cases.case.values:
         row = []
         for axis in cases.axis.values:
-            update, freq = spectrum.track_dominant(
-                time, cases.mount_displacement.sel(case=case, axis=axis).values, update_period=update_period,
-                window=t.window, min_freq_hz=t.min_freq_hz, max_freq_hz=t.max_freq_hz,
-                zero_padding=t.zero_padding, min_cycles=t.min_cycles)
+            signal = cases.mount_displacement.sel(case=case, axis=axis).values
+            update, freq = tracking.track(time, signal, update_period=update_period, options=options.tracking)
             row.append(freq)
         rows.append(row)
     return xr.Dataset(
-        {"tracked_freq": (("case", "axis", "update_time"), np.asarray(rows),
-                          {"units": "Hz", "long_name": "dominant input frequency tracked at each update (NaN: too early)"})},
+        {"tracked_freq": (("case", "axis", "update_time"), np.asarray(rows), {
+            "units": "Hz", "long_name": f"dominant input frequency tracked at each update ({options.tracking.method}; "
+            "NaN: too early)"})},
         coords={"update_time": ("update_time", update, {"units": "s", "long_name": "damping update time"})},
     )
