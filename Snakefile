@@ -2,6 +2,9 @@
 # Thin on purpose: stages live in workflow/rules/*.smk, logic in src/uavdamp.
 from snakemake.utils import min_version, validate
 
+from uavdamp.checks import check_config
+from uavdamp.workflow import export_provenance
+
 min_version("9.0")
 
 
@@ -9,6 +12,8 @@ configfile: "config/config.yaml"
 
 
 validate(config, "workflow/schemas/config.schema.yaml")
+check_config(config)  # values against each other, before any job
+export_provenance(workflow.configfiles, workflow.basedir)
 
 
 scattergather:
