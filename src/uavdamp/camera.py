@@ -23,8 +23,9 @@ and c = (0, y, z):
 To first order in the angles and in y/D, z/D:  u = f_px (psi + y/D),  v = f_px (z/D - theta).
 So a camera yawing left or moving left moves the image of the scene to the right (u > 0); pitching
 down (theta > 0) moves it up (v < 0); moving up moves it down (v > 0). The exact form is used; the
-small-angle form differs from it by the relative error of tan(a) ~ a, a^2/3: 0.33 % at 0.1 rad,
-3.3e-5 at 10 mrad (tested).
+small-angle form differs from it by relative errors of order a^2: tan(a) ~ a gives a^2/3 (0.33 % at
+0.1 rad, 3.3e-5 at 10 mrad), and with both angles u = f tan(psi) / cos(theta) adds theta^2/2 (0.5 % at
+0.1 rad); the translation terms are exact when the angles are zero (tested).
 """
 
 from __future__ import annotations
