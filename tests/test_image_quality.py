@@ -124,7 +124,8 @@ def _steps(blurs, dt=1e-4):
 
 
 def test_sharp_fraction_and_percentiles_on_constructed_frames():
-    """Blurs 0.5, 0.99, 1.01, 2.0 px: half are sharp at 1 px; p95 = 1.01 + 0.85 (2.0 - 1.01) (linear rank)."""
+    """Blurs 0.5, 0.99, 1.01, 2.0 px: half are sharp at 1 px; p95 = 1.01 + 0.85 (2.0 - 1.01) (linear rank);
+    frame jitter the RMS of the centroid steps."""
     time, u = _steps([0.5, 0.99, 1.01, 2.0])
     frames = iq.frames_from_image_path(time, u, np.zeros_like(time), CAM)
     assert frames.blur_px == pytest.approx([0.5, 0.99, 1.01, 2.0], rel=1e-9)
@@ -133,6 +134,9 @@ def test_sharp_fraction_and_percentiles_on_constructed_frames():
     assert summary["blur_median"][0] == pytest.approx(1.0, rel=1e-9)
     assert summary["blur_p95"][0] == pytest.approx(1.01 + 0.85 * 0.99, rel=1e-9)
     assert summary["blur_max"][0] == pytest.approx(2.0, rel=1e-9)
+    # each exposure's centroid sits mid-ramp, so consecutive centroids are (b_k + b_k+1) / 2 apart
+    steps = np.array([0.5 + 0.99, 0.99 + 1.01, 1.01 + 2.0]) / 2
+    assert summary["frame_jitter_rms"][0] == pytest.approx(np.sqrt(np.mean(steps**2)), rel=1e-9)
     # a blur exactly at the threshold counts as sharp
     assert iq.frame_summary(frames, float(frames.blur_px[1]))["sharp_fraction"][0] == 0.5
 
@@ -144,6 +148,8 @@ def test_frame_windowing_and_partial_frames():
     exact = _time(7, 1e-4)  # ends exactly at 6 / fps + T: the 7th frame is complete
     assert iq.frame_starts(exact, CAM).size == 7
     assert iq.frame_starts(exact[:-1], CAM).size == 6  # one sample short: the 7th is partial, dropped
+    # 30 fps, 1/250 s, 1/3000 s steps: sample 312 lies 1.4e-17 s before 3/30 + 1/250 (rounding): 4 frames
+    assert iq.frame_starts(np.arange(313) / 3000.0, _camera(frame_rate_hz=30.0, exposure_s=1 / 250)).size == 4
     starts = iq.frame_starts(time, CAM, start_s=0.5, end_s=0.7)
     assert starts == pytest.approx(0.5 + np.arange(5) / FPS)  # 0.5 + 4/25 + T = 0.664 <= 0.7 < 0.704
     with pytest.raises(ValueError, match=r"shorter than one frame's exposure"):
@@ -180,9 +186,10 @@ def test_line_of_sight_stats_of_sines():
     assert stats["los_pitch_peak"][0] == pytest.approx(b, rel=1e-9)
     only_yaw = iq.line_of_sight_stats(time, yaw, 0 * pitch)
     assert only_yaw["los_peak"][0] == pytest.approx(a, rel=1e-9)
-    # window: the first quarter period holds yaw rising 0 -> A and pitch falling B -> 0
-    part = iq.line_of_sight_stats(time, yaw, pitch, start_s=0.0, end_s=0.05)
-    assert part["los_yaw_peak"][0] == pytest.approx(a, rel=1e-9) and part["los_pitch_peak"][0] == b
+    # window: the first eighth of a period holds yaw rising 0 -> A sin(pi/4), pitch falling from B
+    part = iq.line_of_sight_stats(time, yaw, pitch, start_s=0.0, end_s=0.025)
+    assert part["los_yaw_peak"][0] == pytest.approx(a * np.sin(np.pi / 4), rel=1e-9)
+    assert part["los_pitch_peak"][0] == b
 
 
 def test_image_metrics_names_units_and_values():
