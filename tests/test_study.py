@@ -148,3 +148,20 @@ def test_unknown_strategy_is_refused_naming_it(quick_config):
         study.StudyOptions.from_config({**cfg, "strategies": ["passive", "groundhook"]})
     with pytest.raises(ValueError, match="study.stiffness_n_m: values must be unique"):
         study.StudyOptions.from_config({**cfg, "stiffness_n_m": [10.0, 10.0]})
+
+
+def test_blur_recomputed_from_the_stored_line_of_sight_equals_the_stored_metric(comparison):
+    """A user can recompute the image metrics from comparison.nc alone: its LOS series and camera attributes."""
+    from uavdamp.camera import CameraModel
+    from uavdamp.image_quality import image_metrics
+
+    attrs = {k.removeprefix("camera_"): v for k, v in comparison.attrs.items() if k.startswith("camera_")}
+    camera = CameraModel.from_config({k: (int(v) if k.endswith("_px") and k.startswith("image") else float(v))
+                                      for k, v in attrs.items()})
+    for case in comparison.case.values:
+        run = comparison.sel(case=case, stiffness=comparison.stiffness[0], strategy="passive")
+        again = image_metrics(run.time.values, run.camera_displacement.values, run.camera_yaw.values,
+                              run.camera_pitch.values, camera)
+        for name in ("blur_p95", "sharp_fraction", "los_std", "mtf_nyquist_median"):
+            assert again[name][0] == float(run[name]), (case, name)
+        assert float(run.blur_max) == float(run.frame_blur.max())

@@ -38,8 +38,8 @@ def key_of(cls, name: str) -> str:
 
 def _convert(value, kind, where: str, length: int | None):
     origin = typing.get_origin(kind)
-    if dataclasses.is_dataclass(kind):
-        return load(kind, value, where)
+    if dataclasses.is_dataclass(kind):  # a nested section: by its own from_config (its keys' names) if it has one
+        return kind.from_config(value) if hasattr(kind, "from_config") else load(kind, value, where)
     if origin is tuple:
         if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
             raise ValueError(f"{where}: expected a list, got {value!r}")

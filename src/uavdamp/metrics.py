@@ -8,6 +8,10 @@ concatenates them with xarray. Adding a metric is one function with ``@register(
     std_total          standard deviation of the camera displacement over the run (1/N), per axis, m
     std_settled        the same after settle_s (paper: "both converge after about 1 s"), per axis, m
     energy_dissipated  energy the damper dissipated, sum over axes of the integral of C v_rel^2 dt, J
+    image              line of sight and image blur over the run (`uavdamp.image_quality`; needs options.camera):
+                       los_* (rad), blur_* (px), sharp_fraction, mtf_nyquist_median, frame_blur (frame) px
+
+A metric may also return a Dataset: a group of named values computed together.
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ from collections.abc import Callable
 import numpy as np
 import xarray as xr
 
-from uavdamp import registry
+from uavdamp import image_quality, registry
 
 REGISTRY: dict[str, Callable] = {}
 
@@ -29,13 +33,15 @@ def register(name: str):
 
 def evaluate(response: xr.Dataset, options) -> xr.Dataset:
     """Every registered metric of one run, as a dataset of scalars and per-axis values."""
-    out = {}
+    out = xr.Dataset()
     for name, fn in REGISTRY.items():
         value = fn(response, options)
-        if not {"units", "long_name"} <= set(value.attrs):
-            raise ValueError(f"metric {name!r} returned no units or long_name")
-        out[name] = value
-    return xr.Dataset(out)
+        group = value if isinstance(value, xr.Dataset) else xr.Dataset({name: value})
+        for key, var in group.data_vars.items():
+            if not {"units", "long_name"} <= set(var.attrs):
+                raise ValueError(f"metric {name!r} returned {key!r} without units or long_name")
+        out = out.merge(group)
+    return out
 
 
 def _named(value, units: str, long_name: str) -> xr.DataArray:
@@ -69,3 +75,20 @@ def energy_dissipated(response: xr.Dataset, options) -> xr.DataArray:
     c = response.damping.values
     energy = float(np.sum(c[:-1] * v2[:-1]) * (time[1] - time[0]))
     return _named(energy, "J", "energy dissipated by the damper over the run")
+
+
+@register("image")
+def image(response: xr.Dataset, options) -> xr.Dataset:
+    """What the camera sees over the whole run: line-of-sight statistics and per-frame blur (`image_quality`)."""
+    camera = getattr(options, "camera", None)
+    if camera is None:
+        return xr.Dataset()
+    args = (response.time.values, response.camera_displacement.values, response.camera_yaw.values,
+            response.camera_pitch.values, camera)
+    values = image_quality.image_metrics(*args)
+    frames = image_quality.frame_metrics(*args)
+    out = xr.Dataset({name: ((), value, {"units": units, "long_name": long_name})
+                      for name, (value, units, long_name) in values.items()})
+    out["frame_blur"] = ("frame", frames.blur_px, {"units": "px", "long_name": "blur of each frame: extent of the "
+                                                   "image path of the scene point during the exposure"})
+    return out.assign_coords(frame=("frame", frames.start_s, {"units": "s", "long_name": "frame start time"}))

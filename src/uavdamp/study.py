@@ -15,7 +15,9 @@ import xarray as xr
 from uavdamp import metrics, strategies, tracking
 from uavdamp.config import load, require, setting
 from uavdamp.contract import MOUNTS
+from uavdamp.excitation import on_grid
 from uavdamp.platform import ExudynPlant, PlatformParams
+from uavdamp.camera import CameraModel
 from uavdamp.tracking import TrackerOptions
 
 KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # response variables the study keeps
@@ -23,7 +25,8 @@ KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # respo
 
 @dataclass(frozen=True)
 class StudyOptions:
-    """The config's ``study`` section as the runs see it (cases, run length, filter and figures left out)."""
+    """The config's ``study`` section as the runs see it (cases, run length, filter and figures left out), with the
+    top-level ``camera`` section under ``camera`` (the image metrics need it; without it they are skipped)."""
 
     strategies: tuple[str, ...] = setting()
     stiffness: tuple[float, ...] = setting("stiffness_n_m")  # N m-1
@@ -32,6 +35,7 @@ class StudyOptions:
     early_s: float = setting()  # s, end of the window of peak_early
     settle_s: float = setting()  # s, start of the window of std_settled
     tracking: TrackerOptions = setting()
+    camera: CameraModel | None = setting(default=None)
 
     @classmethod
     def from_config(cls, cfg) -> StudyOptions:
@@ -85,15 +89,17 @@ def _one_case_and_stiffness(context: strategies.Context, names) -> xr.Dataset:
 def _finish(ds: xr.Dataset, cases: xr.Dataset, options: StudyOptions, params: PlatformParams) -> xr.Dataset:
     """Coordinate metadata, the input on the solver grid and the tracked frequencies."""
     grid_time = ds.time.values
-    ds = ds.drop_vars([c for c in ds.coords if c not in ("case", "stiffness", "strategy", "axis", "time")])
+    ds = ds.drop_vars([c for c in ds.coords if c not in ("case", "stiffness", "strategy", "axis", "time", "frame")])
     ds = ds.assign_coords(
         case=cases.case, axis=cases.axis,
         stiffness=("stiffness", np.asarray(options.stiffness), {"units": "N m-1", "long_name": "isolator stiffness K"}),
         strategy=("strategy", list(options.strategies), {"units": "1", "long_name": "damping strategy"}),
         time=("time", grid_time, {"units": "s", "long_name": "time"}))
-    ds["mount_displacement"] = (("case", "axis", "time"), cases.mount_displacement.interp(time=grid_time).values,
+    on_solver_grid = [on_grid(cases.time.values, *cases.mount_displacement.sel(case=c).values, params.time_step)[1:]
+                      for c in cases.case.values]  # the input exactly as the plants resampled it
+    ds["mount_displacement"] = (("case", "axis", "time"), np.asarray(on_solver_grid),
                                 {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"})
-    ds.attrs = {}
+    ds.attrs = options.camera.attrs() if options.camera is not None else {}
     return ds.merge(tracked_frequencies(cases, options, params.update_period))
 
 

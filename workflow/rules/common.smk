@@ -20,7 +20,8 @@ ANFIS = canonical(config["anfis"])
 STUDY_EXCITATION = config_view(
     config["study"], keep=["cases", "duration_s", "highpass_hz", "tracking"]
 )
-STUDY_RUNS = config_view(
-    config["study"], drop=["cases", "duration_s", "highpass_hz", "figures"]
-)
+STUDY_RUNS = {
+    **config_view(config["study"], drop=["cases", "duration_s", "highpass_hz", "figures"]),
+    "camera": canonical(config["camera"]),
+}
 STUDY_FIGURES = canonical(config["study"]["figures"])
