@@ -75,3 +75,4 @@ def test_short_run_records_every_parameter(heli):
     assert ds.fuselage_ixx_scale.values[0] == 1.0
     both = S.combine([ds, S.run(heli, "baseline", options, min_omega_rad_s=20.0, zero_padding=8)])
     assert both.sizes["run"] == 2 and float(both.lag_damping[1]) == heli.main_rotor.lag_damping
+    io.check_metadata(both)

@@ -80,7 +80,7 @@ def _transform(n_blades: int, psi: float, n_fuselage: int) -> tuple[np.ndarray, 
     return tuple(out)
 
 
-def _linearise(model: H.Model, heli: H.Helicopter, psi: float, held: list[int]):
+def linearise(model: H.Model, heli: H.Helicopter, psi: float, held: list[int]):
     """M, K, D of the free coordinates (held ones deleted) at rotor azimuth psi (rad), rotor at Omega."""
     mbs = model.mbs
     n = mbs.systemData.ODE2Size()
@@ -117,7 +117,7 @@ def multiblade_system(heli: H.Helicopter, psi: float = 0.0, *, fix_fuselage: boo
     model = H.build(heli, fix_fuselage=fix_fuselage)
     n = model.mbs.systemData.ODE2Size()
     held = [H.HUB_LINK, n - 1] + (list(range(6)) if fix_fuselage else [])
-    m, k, d = _linearise(model, heli, psi, held)
+    m, k, d = linearise(model, heli, psi, held)
     n_fuselage = 0 if fix_fuselage else 6
     t, t1, t2 = _transform(heli.main_rotor.n_blades, psi, n_fuselage)
     omega = heli.main_rotor.omega_rad_s
@@ -132,20 +132,26 @@ def multiblade_system(heli: H.Helicopter, psi: float = 0.0, *, fix_fuselage: boo
 def modes(m: np.ndarray, d: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """One eigenvalue (1/s) and displacement shape per degree of freedom of M q'' + D q' + K q = 0.
 
-    An oscillating mode is its root with positive imaginary part; a non-oscillating degree of freedom
-    (rigid body, overdamped) is represented by its slower real root. Returns (eigenvalues (n,), shapes (n, n)
-    as columns), sorted by frequency then decay rate.
+    An oscillating mode is its root with positive imaginary part; the non-oscillating degrees of freedom are
+    zero roots (a double zero counting once) and then the slowest other real roots (an overdamped degree of
+    freedom by its slower root; a damped free hinge's root pair 0, -c/I may show as -c/I). Returns
+    (eigenvalues (n,), shapes (n, n) as columns), sorted by frequency then decay rate.
     """
     n = m.shape[0]
     a = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(m, k), -np.linalg.solve(m, d)]])
     lam = np.linalg.eigvals(a)
     lam = np.where(np.abs(lam) < RIGID_TOL_RAD_S, 0.0, lam)
-    oscillating = np.flatnonzero(lam.imag > RIGID_TOL_RAD_S)
-    real = np.flatnonzero(np.abs(lam.imag) <= RIGID_TOL_RAD_S)
-    real = real[np.argsort(np.abs(lam[real]), kind="stable")][: n - oscillating.size]
-    lam = lam[np.concatenate([oscillating, real])]
-    if lam.size != n:
-        raise RuntimeError(f"mode selection found {lam.size} modes for {n} degrees of freedom")
+    oscillating = lam[lam.imag > RIGID_TOL_RAD_S]
+    # non-oscillating degrees of freedom: zero roots, a double zero (rigid body, free hinge) counting once,
+    # then the slowest other real roots (an overdamped degree of freedom by its slower root)
+    n_zero = min(int(np.ceil(np.sum(lam == 0) / 2)), n - oscillating.size)
+    real = lam[(np.abs(lam.imag) <= RIGID_TOL_RAD_S) & (lam != 0)].real
+    n_over = n - oscillating.size - n_zero
+    if n_over < 0 or n_over > real.size:
+        raise RuntimeError(f"mode selection: {oscillating.size} oscillating, {n_zero} zero and {real.size} real "
+                           f"roots do not make {n} degrees of freedom")
+    slow = real[np.argsort(np.abs(real), kind="stable")][:n_over]
+    lam = np.concatenate([oscillating, np.zeros(n_zero), slow]).astype(complex)
     lam = lam[np.lexsort((-lam.real, lam.imag))]
     return lam, _shapes(m, d, k, lam)
 
@@ -174,12 +180,15 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return cross / np.maximum(norm, np.finfo(float).tiny)
 
 
-def track(shapes: list[np.ndarray], start: int) -> tuple[np.ndarray, np.ndarray]:
+def track(shapes: list[np.ndarray], start: int, eigenvalues: list[np.ndarray] | None = None
+          ) -> tuple[np.ndarray, np.ndarray]:
     """Follow modes across steps by MAC, outward from step `start` (whose order defines the mode numbers).
 
-    Returns (order (steps, modes): column index at each step of each mode, mac (steps, modes): the MAC of the
-    match with the neighbouring step towards `start`, 1 at `start`). Matches are one-to-one (assignment
-    maximising the summed MAC).
+    Matches are one-to-one, minimising the summed (1 - MAC) plus, when `eigenvalues` (1/s, per step) are
+    given, the relative eigenvalue distance |s_a - s_b| / (|s_a| + |s_b| + 1 s-1), which breaks near-ties
+    (e.g. a progressive and a regressive mode that whirl the same way have equal shapes). Returns (order
+    (steps, modes): column index at each step of each mode, mac (steps, modes): the MAC of each match with the
+    neighbouring step towards `start`, 1 at `start`).
     """
     n_steps, n = len(shapes), shapes[start].shape[1]
     order, score = np.zeros((n_steps, n), dtype=int), np.ones((n_steps, n))
@@ -187,13 +196,43 @@ def track(shapes: list[np.ndarray], start: int) -> tuple[np.ndarray, np.ndarray]
     for direction in (1, -1):
         step = start + direction
         while 0 <= step < n_steps:
-            prev = shapes[step - direction][:, order[step - direction]]
-            matrix = mac(prev, shapes[step])
-            rows, cols = linear_sum_assignment(-matrix)
+            prev = order[step - direction]
+            matrix = mac(shapes[step - direction][:, prev], shapes[step])
+            cost = 1.0 - matrix
+            if eigenvalues is not None:
+                a, b = eigenvalues[step - direction][prev][:, None], eigenvalues[step][None, :]
+                cost = cost + np.abs(a - b) / (np.abs(a) + np.abs(b) + 1.0)
+            rows, cols = linear_sum_assignment(cost)
             order[step, rows] = cols
             score[step, rows] = matrix[rows, cols]
             step += direction
     return order, score
+
+
+def mode_labels(shapes: np.ndarray, share: np.ndarray, names: list[str], frequency: np.ndarray, omega: float,
+                second: float = 0.25) -> list[str]:
+    """A name per mode (columns of `shapes`; energy `share` (mode, coordinate); fixed-frame `frequency`, rad/s,
+    at rotor speed `omega`): its largest coordinate group (a cyclic cos/sin pair counts as one, with its
+    branch), and the second group after " + " when that holds more than `second` of the energy."""
+    groups = {}
+    for i, name in enumerate(names):
+        groups.setdefault(name.replace(" cos ", " ").replace(" sin ", " "), []).append(i)
+    labels = []
+    for mode in range(shapes.shape[1]):
+        energy = {g: share[mode, idx].sum() for g, idx in groups.items()}
+        ranked = sorted(energy, key=energy.get, reverse=True)
+        parts = [g + _branch(shapes[groups[g], mode], frequency[mode], omega) if len(groups[g]) == 2 else g
+                 for g in ranked[:2] if g == ranked[0] or energy[g] > second]
+        labels.append(" + ".join(parts))
+    return labels
+
+
+def _branch(cos_sin: np.ndarray, frequency: float, omega: float) -> str:
+    """" progressive" (nu + Omega: whirls with the rotor, above Omega) or " regressive" (|nu - Omega|) for the
+    cos and sin amplitudes (a_c, a_s) of a mode exp(i w t): it whirls with the rotor when Im(conj(a_c) a_s) < 0
+    (a_s = -i a_c)."""
+    with_rotor = np.imag(np.conj(cos_sin[0]) * cos_sin[1]) < 0
+    return " progressive" if with_rotor and frequency > omega else " regressive"
 
 
 def periodicity_residual(heli: H.Helicopter, azimuths_rad, reference=None) -> float:
@@ -235,10 +274,10 @@ def campbell(heli: H.Helicopter, rotor_speeds_rad_s, *, check_azimuths_rad=(0.4,
         shares.append(energy / np.maximum(energy.sum(axis=0), np.finfo(float).tiny))
         residual.append(periodicity_residual(h, check_azimuths_rad, reference=(mz, dz, kz)))
     start = int(np.argmin(np.abs(speeds - heli.main_rotor.omega_rad_s)))
-    order, score = track(shapes, start)
+    order, score = track(shapes, start, lams)
     lam = np.array([lams[s][order[s]] for s in range(speeds.size)]).T  # (mode, speed)
     share = np.array([shares[s][:, order[s]] for s in range(speeds.size)]).transpose(2, 0, 1)
-    labels = [names[i] for i in np.argmax(share[:, start, :], axis=1)]
+    labels = mode_labels(shapes[start][:, order[start]], share[:, start, :], names, lam[:, start].imag, speeds[start])
     size = np.abs(lam)
     damping = np.where(size > 0, -lam.real / np.where(size > 0, size, 1.0), np.nan)
     dims = ("mode", "rotor_speed")

@@ -113,5 +113,7 @@ def run(heli: H.Helicopter, name: str, options: H.SolverOptions, *, min_omega_ra
 
 
 def combine(runs: list[xr.Dataset]) -> xr.Dataset:
-    """Concatenate run results along `run`."""
-    return xr.concat(runs, dim="run", combine_attrs="drop")
+    """Concatenate run results along `run` (variable attributes kept, global ones dropped)."""
+    ds = xr.concat(runs, dim="run", combine_attrs="override")
+    ds.attrs = {}
+    return ds

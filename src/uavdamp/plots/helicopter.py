@@ -66,13 +66,15 @@ def campbell_figure(ds: xr.Dataset, marks: dict[str, float] | None = None, max_h
         ax.annotate(text, (nominal, value), fontsize=8, color="r", xytext=(-110, 4), textcoords="offset points")
     ax.set(xlabel="main rotor speed (rad/s)", ylabel="modal frequency, fixed frame (rad/s)",
            ylim=(0, 1.05 * float(ds.frequency.max())), xlim=(0, 1.12 * speed[-1]),
-           title="Campbell diagram, balanced rotor (multiblade coordinates; blue flap, orange lag, green "
-                 "feather, black fuselage)")
+           title="Campbell diagram, balanced rotor, multiblade coordinates")
+    handles = [plt.Line2D([], [], color=c, label=f) for f, c in {**FAMILY_COLOURS, "fuselage": "k"}.items()]
+    ax.legend(handles=handles, loc="upper left", fontsize=8, title="largest share", title_fontsize=8)
     return fig
 
 
 def sensitivity_figure(ds: xr.Dataset):
-    """Dominant Y and Z frequencies (top) and line amplitudes (bottom) against each parameter changed."""
+    """Dominant Y and Z frequencies (top) and line amplitudes (bottom, with Z's 1/rev line dashed) against each
+    parameter changed."""
     parameters = [p for p in dict.fromkeys(ds.parameter.values.tolist()) if p != "baseline"]
     fig, axes = plt.subplots(2, len(parameters), figsize=(2.6 * len(parameters), 6), constrained_layout=True,
                              squeeze=False)
@@ -84,6 +86,7 @@ def sensitivity_figure(ds: xr.Dataset):
         for axis, style in (("y", "o-"), ("z", "s-")):
             axes[0, col].plot(x, runs.dominant_omega.sel(axis=axis), style, ms=4, label=axis.upper())
             axes[1, col].semilogy(x, 1e3 * runs.dominant_amplitude.sel(axis=axis), style, ms=4, label=axis.upper())
+        axes[1, col].semilogy(x, 1e3 * runs.rotor_line_amplitude.sel(axis="z"), "k--", lw=0.8, label="Z 1/rev line")
         for row in (0, 1):
             axes[row, col].axvline(float(base[parameter].values[0]), color="0.6", ls=":", lw=0.8)
         unit = ds[parameter].attrs["units"]
@@ -91,5 +94,6 @@ def sensitivity_figure(ds: xr.Dataset):
     axes[0, 0].set_ylabel("dominant frequency (rad/s)")
     axes[1, 0].set_ylabel("line amplitude (mm)")
     axes[0, 0].legend(fontsize=8)
+    axes[1, 0].legend(fontsize=8)
     fig.suptitle("Imbalanced rotor: dominant fuselage lines, one parameter changed at a time (dotted: config)")
     return fig
