@@ -8,8 +8,8 @@ import exudyn as exu
 import numpy as np
 import pytest
 
-from uavdamp import helicopter as H
 from uavdamp import floquet as F
+from uavdamp import helicopter as H
 from uavdamp import io
 from uavdamp import rotor_modes as R
 

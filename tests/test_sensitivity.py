@@ -68,11 +68,15 @@ def test_dominant_lines_of_known_sines():
 
 def test_short_run_records_every_parameter(heli):
     options = H.SolverOptions(duration=1.0, step=0.0025, output_step=0.005)
-    ds = S.run(heli, "lag_damping=300", options, min_omega_rad_s=20.0, zero_padding=8)
+    ds = S.run(heli, "lag_damping=300", options)
     io.check_metadata(ds)
+    assert ds.displacement.dims == ("run", "axis", "time")
     assert ds.parameter.values.tolist() == ["lag_damping"]
     assert ds.lag_damping.values[0] == 300.0 and ds.hinge_offset.values[0] == heli.main_rotor.hinge_offset
     assert ds.fuselage_ixx_scale.values[0] == 1.0
-    both = S.combine([ds, S.run(heli, "baseline", options, min_omega_rad_s=20.0, zero_padding=8)])
-    assert both.sizes["run"] == 2 and float(both.lag_damping[1]) == heli.main_rotor.lag_damping
+    both = S.combine([ds, S.run(heli, "baseline", options)], rotor_omega_rad_s=heli.main_rotor.omega_rad_s,
+                     min_omega_rad_s=20.0, zero_padding=8)
     io.check_metadata(both)
+    assert both.dominant_omega.dims == ("run", "axis") and both.sizes["run"] == 2
+    assert both.run.values.tolist() == ["lag_damping=300", "baseline"]
+    assert both.lag_damping.values.tolist() == [300.0, heli.main_rotor.lag_damping]

@@ -98,22 +98,31 @@ def dominant_lines(run: xr.Dataset, *, rotor_omega_rad_s: float, min_omega_rad_s
     )
 
 
-def run(heli: H.Helicopter, name: str, options: H.SolverOptions, *, min_omega_rad_s: float,
-        zero_padding: int) -> xr.Dataset:
-    """One sensitivity run (`name`: "baseline" or "<parameter>=<value>") of the imbalanced helicopter: its lines."""
+def run(heli: H.Helicopter, name: str, options: H.SolverOptions) -> xr.Dataset:
+    """One sensitivity run (`name`: "baseline" or "<parameter>=<value>") of the imbalanced helicopter: the
+    `helicopter.run` result on a `run` dimension, with every parameter's value as a coordinate."""
     parameter, value = parse_run_name(name)
-    lines = dominant_lines(H.run(varied(heli, parameter, value), options), min_omega_rad_s=min_omega_rad_s,
-                           zero_padding=zero_padding, rotor_omega_rad_s=heli.main_rotor.omega_rad_s)
+    result = H.run(varied(heli, parameter, value), options)
     values = {p: (value if p == parameter else nominal(heli)) for p, (_, _, _, nominal) in PARAMETERS.items()}
-    return lines.expand_dims(run=[name]).assign_coords(
+    result.attrs = {}
+    return result.expand_dims(run=[name]).assign_coords(
         run=("run", [name], {"units": "1", "long_name": "sensitivity run"}),
         parameter=("run", [parameter], {"units": "1", "long_name": "parameter changed from the config's"}),
         **{p: ("run", [v], {"units": PARAMETERS[p][0], "long_name": PARAMETERS[p][1]}) for p, v in values.items()},
     )
 
 
-def combine(runs: list[xr.Dataset]) -> xr.Dataset:
-    """Concatenate run results along `run` (variable attributes kept, global ones dropped)."""
-    ds = xr.concat(runs, dim="run", combine_attrs="override")
-    ds.attrs = {}
-    return ds
+def combine(runs: list[xr.Dataset], *, rotor_omega_rad_s: float, min_omega_rad_s: float,
+            zero_padding: int) -> xr.Dataset:
+    """The dominant lines (`dominant_lines`) of each run from `run`, concatenated along `run` with the runs'
+    parameter coordinates (variable attributes kept, global ones dropped)."""
+    lines = []
+    for ds in runs:
+        one = ds.isel(run=0)
+        found = dominant_lines(one, rotor_omega_rad_s=rotor_omega_rad_s, min_omega_rad_s=min_omega_rad_s,
+                               zero_padding=zero_padding)
+        coords = {name: ds[name] for name in ds.coords if ds[name].dims == ("run",)}
+        lines.append(found.expand_dims(run=ds.run.values).assign_coords(coords))
+    out = xr.concat(lines, dim="run", combine_attrs="override")
+    out.attrs = {}
+    return out

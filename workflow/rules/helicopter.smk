@@ -80,7 +80,6 @@ rule helicopter_sensitivity_run:
     params:
         helicopter=HELICOPTER_RUN,
         duration=HELICOPTER_SENSITIVITY["duration"],
-        spectrum=canonical(config["helicopter"]["spectrum"]),
     script:
         "../scripts/helicopter_sensitivity_run.py"
 
@@ -101,5 +100,7 @@ rule helicopter_sensitivity:
         ENV
     params:
         sensitivity=canonical(HELICOPTER_SENSITIVITY),
+        spectrum=canonical(config["helicopter"]["spectrum"]),
+        rotor_omega_rad_s=config["helicopter"]["main_rotor"]["omega_rad_s"],
     script:
         "../scripts/helicopter_sensitivity.py"

@@ -1,4 +1,4 @@
-"""Snakemake script: one sensitivity run of the imbalanced helicopter (wildcard `run`) -> its dominant lines."""
+"""Snakemake script: one sensitivity run of the imbalanced helicopter (wildcard `run`) -> its motion."""
 
 import os
 
@@ -10,8 +10,7 @@ io.start_log(snakemake.log[0])
 cfg = snakemake.params.helicopter
 heli = helicopter.Helicopter.from_config(cfg)
 options = helicopter.SolverOptions.from_config({**cfg["solver"], "duration": snakemake.params.duration})
-ds = sensitivity.run(heli, snakemake.wildcards.run, options, **snakemake.params.spectrum)
-io.log_info(f"{snakemake.wildcards.run}:\n{ds.to_dataframe()}")
-io.write_netcdf(ds, snakemake.output[0], {**cfg, "sensitivity_duration": snakemake.params.duration,
-                                          "spectrum": snakemake.params.spectrum},
+ds = sensitivity.run(heli, snakemake.wildcards.run, options)
+io.log_info(f"{snakemake.wildcards.run}: done")
+io.write_netcdf(ds, snakemake.output[0], {**cfg, "sensitivity_duration": snakemake.params.duration},
                 section="helicopter", command=io.snakemake_command(snakemake))
