@@ -25,6 +25,10 @@ rule all:
     input:
         "reports/helicopter/vibration.nc",
         "reports/figures/fuselage_vibration.png",
+        "reports/helicopter/campbell.nc",
+        "reports/figures/helicopter_campbell.png",
+        "reports/helicopter/sensitivity.nc",
+        "reports/figures/helicopter_sensitivity.png",
         "reports/platform/modes.nc",
         "reports/figures/platform_response.png",
         "reports/reference_table/table.nc",

@@ -1,7 +1,8 @@
 """Benchmark: the paper's 50 s imbalanced-rotor run (default config), simulated seconds per wall second.
 
-Usage: python benchmarks/bench_helicopter.py [--fast] [--repeats N] [--duration S]
+Usage: python benchmarks/bench_helicopter.py [--fast] [--repeats N] [--duration S] [--modes]
 --fast loads Exudyn's AVX2 module without range checks, as the pipeline does. Target: >= 4 s/s.
+--modes times the Campbell diagram and the Floquet analysis of the config instead (wall s).
 """
 
 import argparse
@@ -15,13 +16,27 @@ parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.R
 parser.add_argument("--fast", action="store_true")
 parser.add_argument("--repeats", type=int, default=3)
 parser.add_argument("--duration", type=float, default=None, help="s, default: the config's")
+parser.add_argument("--modes", action="store_true", help="time the Campbell and Floquet analyses")
 args = parser.parse_args()
 if args.fast:
     sys.exudynFast = True
 
-from uavdamp import helicopter  # noqa: E402
+import numpy as np  # noqa: E402
+
+from uavdamp import floquet, helicopter, rotor_modes  # noqa: E402
 
 cfg = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())["helicopter"]
+if args.modes:
+    heli, opts = helicopter.Helicopter.from_config(cfg), cfg["campbell"]
+    speeds = np.linspace(0.0, opts["max_speed_ratio"] * heli.main_rotor.omega_rad_s, opts["n_speeds"])
+    print(f"{'Campbell s':>10} {'Floquet s':>10}  ({len(speeds)} speeds, {opts['floquet_steps']} azimuth steps)")
+    for _ in range(args.repeats):
+        t0 = time.perf_counter()
+        rotor_modes.campbell(heli.balanced(), speeds, check_azimuths_rad=opts["check_azimuths_rad"])
+        t1 = time.perf_counter()
+        floquet.floquet_exponents(heli, opts["floquet_steps"])
+        print(f"{t1 - t0:10.2f} {time.perf_counter() - t1:10.2f}")
+    sys.exit(0)
 if args.duration:
     cfg["solver"]["duration"] = args.duration
 heli = helicopter.Helicopter.from_config(cfg)

@@ -80,7 +80,7 @@ class Helicopter:
     mount_point: tuple[float, float, float]  # m, platform mount in the fuselage frame
 
     @classmethod
-    def from_config(cls, cfg: dict) -> "Helicopter":
+    def from_config(cls, cfg: dict) -> Helicopter:
         """Build from the config's `helicopter` section (keys and units: the config schema)."""
         fus, imb = cfg["fuselage"], cfg["imbalance"]
         heli = cls(
@@ -117,12 +117,17 @@ class Helicopter:
         for key, ok in checks.items():
             if not ok:
                 raise ValueError(f"helicopter.{key}: physically invalid value")
+        for key, rotor in (("main_rotor", main), ("tail_rotor", tail)):
+            gyration = np.sqrt(max(rotor.blade_inertia) / rotor.blade_mass)
+            if gyration > rotor.blade_length:
+                raise ValueError(f"helicopter.{key}.blade_inertia: {max(rotor.blade_inertia)} kg m2 gives a radius of "
+                                 f"gyration {gyration:.3g} m longer than the blade ({rotor.blade_length} m)")
 
-    def balanced(self) -> "Helicopter":
+    def balanced(self) -> Helicopter:
         """The same helicopter with every main blade at its nominal mass."""
         return replace(self, imbalance_mass_factor=1.0)
 
-    def with_tail_rotor_speed(self, omega_rad_s: float) -> "Helicopter":
+    def with_tail_rotor_speed(self, omega_rad_s: float) -> Helicopter:
         """The same helicopter with the tail rotor turning at `omega_rad_s`."""
         return replace(self, tail_rotor=replace(self.tail_rotor, omega_rad_s=float(omega_rad_s)))
 
@@ -169,7 +174,7 @@ class SolverOptions:
                              f"solver.step {self.step} s (uniform sampling for the FFT)")
 
     @classmethod
-    def from_config(cls, cfg: dict) -> "SolverOptions":
+    def from_config(cls, cfg: dict) -> SolverOptions:
         return cls(**{name: float(cfg[name]) for name in cls.__dataclass_fields__})
 
     def settings(self) -> exu.SimulationSettings:
@@ -219,8 +224,8 @@ def tree_links(heli: Helicopter) -> list[TreeLink]:
     main, tail = heli.main_rotor, heli.tail_rotor
     ix, iy, iz = heli.fuselage_inertia
     ixz = heli.fuselage_inertia_xz
-    fuselage = RigidBodyInertia(mass=heli.fuselage_mass, inertiaTensor=np.array([[ix, 0, ixz], [0, iy, 0], [ixz, 0, iz]]),
-                                inertiaTensorAtCOM=True)
+    tensor = np.array([[ix, 0, ixz], [0, iy, 0], [ixz, 0, iz]])
+    fuselage = RigidBodyInertia(mass=heli.fuselage_mass, inertiaTensor=tensor, inertiaTensorAtCOM=True)
     none = RigidBodyInertia()
     jt = exu.JointType
 
@@ -312,7 +317,8 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
 
     sensors = {
         "mount": tree_sensor(FUSELAGE_LINK, heli.mount_point, exu.OutputVariableType.Position),
-        "coordinates": mbs.AddSensor(eii.SensorNode(nodeNumber=node, outputVariableType=exu.OutputVariableType.Coordinates,
+        "coordinates": mbs.AddSensor(eii.SensorNode(nodeNumber=node,
+                                                    outputVariableType=exu.OutputVariableType.Coordinates,
                                                     storeInternal=True, writeToFile=False)),
     }
     masses = {k: lk.linkInertia.Mass() for k, lk in enumerate(links) if lk.linkInertia.Mass() > 0}
@@ -386,9 +392,11 @@ def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], *, min_omega_rad_s:
     amp = np.reshape(amp, (len(rotors), len(AXES), -1))
     ds = ds.assign_coords(omega=("omega", 2 * np.pi * freq_hz, {"units": "rad s-1", "long_name": "angular frequency"}))
     ds["amplitude_spectrum"] = (("rotor", "axis", "omega"), amp,
-                                {"units": "m", "long_name": "single-sided amplitude spectrum of the displacement (Hann window)"})
+                                {"units": "m",
+                                 "long_name": "single-sided amplitude spectrum of the displacement (Hann window)"})
     ds["dominant_omega"] = (("rotor", "axis"), dominant,
-                            {"units": "rad s-1", "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"})
+                            {"units": "rad s-1",
+                             "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"})
     ds["rotor_angle_error"] = ("rotor", [runs[r].attrs["rotor_angle_error_rad"] for r in rotors],
                                {"units": "rad", "long_name": "main rotor angle minus Omega t at the end of the run"})
     ds["mass_imbalance_factor"] = ("rotor", [1.0 if r == "balanced" else heli.imbalance_mass_factor for r in rotors],
@@ -406,15 +414,3 @@ def blade_frequencies(heli: Helicopter) -> np.ndarray:
     eig, _ = model.mbs.ComputeODE2Eigenvalues(exu.SimulationSettings(), useSparseSolver=False,
                                               ignoreAlgebraicEquations=False)
     return np.sort(np.sqrt(np.abs(np.asarray(eig))))
-
-
-def coupled_modes(heli: Helicopter) -> np.ndarray:
-    """Eigenvalues (1/s, complex) of the free helicopter linearised at t = 0 with gyroscopic and
-    damping terms (first-order form). Rigid-body modes appear as zeros."""
-    model = build(heli)
-    out = model.mbs.ComputeLinearizedSystem(exu.SimulationSettings(), projectIntoConstraintNullspace=True)
-    m, k, d = (np.asarray(a) for a in out[:3])
-    n = m.shape[0]
-    m_inv = np.linalg.inv(m)
-    a = np.block([[np.zeros((n, n)), np.eye(n)], [-m_inv @ k, -m_inv @ d]])
-    return np.linalg.eigvals(a)

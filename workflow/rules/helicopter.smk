@@ -1,3 +1,16 @@
+# Views of the helicopter section: a run sees the model and its solver, not the analyses' options, so editing
+# `spectrum`, `campbell` or `sensitivity` reruns only the stage that reads it.
+HELICOPTER_ANALYSES = ["spectrum", "campbell", "sensitivity"]
+HELICOPTER_RUN = config_view(config["helicopter"], drop=HELICOPTER_ANALYSES)
+HELICOPTER_SENSITIVITY = config["helicopter"]["sensitivity"]
+# one run per value: "baseline" and "<parameter>=<value>" (uavdamp.sensitivity.parse_run_name reads them)
+SENSITIVITY_RUNS = ["baseline"] + [
+    f"{parameter}={float(value):g}"
+    for parameter, values in HELICOPTER_SENSITIVITY["parameters"].items()
+    for value in values
+]
+
+
 rule helicopter_run:
     output:
         "reports/helicopter/runs/{rotor}.nc",
@@ -10,7 +23,7 @@ rule helicopter_run:
     conda:
         ENV
     params:
-        helicopter=HELICOPTER_MODEL,
+        helicopter=HELICOPTER_RUN,
     script:
         "../scripts/helicopter_run.py"
 
@@ -26,7 +39,68 @@ rule helicopter_vibration:
     conda:
         ENV
     params:
-        helicopter=HELICOPTER,
+        helicopter=config_view(config["helicopter"], drop=["campbell", "sensitivity"]),
         rotors=ROTORS,
     script:
         "../scripts/helicopter_vibration.py"
+
+
+rule helicopter_campbell:
+    output:
+        campbell="reports/helicopter/campbell.nc",
+        figure=report(
+            "reports/figures/helicopter_campbell.png",
+            caption="../report/helicopter_campbell.rst",
+            category="Helicopter",
+        ),
+    log:
+        "reports/logs/helicopter_campbell.log",
+    benchmark:
+        "reports/benchmarks/helicopter_campbell.tsv"
+    conda:
+        ENV
+    params:
+        helicopter=HELICOPTER_RUN,
+        campbell=canonical(config["helicopter"]["campbell"]),
+    script:
+        "../scripts/helicopter_campbell.py"
+
+
+rule helicopter_sensitivity_run:
+    output:
+        "reports/helicopter/sensitivity/{run}.nc",
+    log:
+        "reports/logs/helicopter_sensitivity/{run}.log",
+    benchmark:
+        "reports/benchmarks/helicopter_sensitivity/{run}.tsv"
+    wildcard_constraints:
+        run="baseline|[a-z_]+=[-+.0-9e]+",
+    conda:
+        ENV
+    params:
+        helicopter=HELICOPTER_RUN,
+        duration=HELICOPTER_SENSITIVITY["duration"],
+    script:
+        "../scripts/helicopter_sensitivity_run.py"
+
+
+rule helicopter_sensitivity:
+    input:
+        runs=expand("reports/helicopter/sensitivity/{run}.nc", run=SENSITIVITY_RUNS),
+    output:
+        sensitivity="reports/helicopter/sensitivity.nc",
+        figure=report(
+            "reports/figures/helicopter_sensitivity.png",
+            caption="../report/helicopter_sensitivity.rst",
+            category="Helicopter",
+        ),
+    log:
+        "reports/logs/helicopter_sensitivity.log",
+    conda:
+        ENV
+    params:
+        sensitivity=canonical(HELICOPTER_SENSITIVITY),
+        spectrum=canonical(config["helicopter"]["spectrum"]),
+        rotor_omega_rad_s=config["helicopter"]["main_rotor"]["omega_rad_s"],
+    script:
+        "../scripts/helicopter_sensitivity.py"
