@@ -9,8 +9,6 @@ RUNS = ROTORS + [
 ]  # helicopter runs; both_rotors: imbalanced, tail rotor turning
 ENV = "../envs/uavdamp.yaml"
 
-HELICOPTER = canonical(config["helicopter"])
-HELICOPTER_MODEL = config_view(config["helicopter"], drop=["spectrum"])
 PLATFORM = canonical(config["platform"])
 PLATFORM_MODEL = config_view(config["platform"], drop=["response"])
 REFERENCE_GRID = config_view(

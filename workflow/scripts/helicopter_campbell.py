@@ -7,10 +7,10 @@ os.environ.setdefault("EXUDYN_MODULE", "fast")  # as helicopter_run.py: the same
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from uavdamp import floquet, helicopter, io, rotor_modes  # noqa: E402
+from uavdamp import floquet, helicopter, io, rotor_modes, workflow  # noqa: E402
 from uavdamp.plots.helicopter import campbell_figure  # noqa: E402
 
-io.start_log(snakemake.log[0])
+workflow.start_log(snakemake.log[0])
 cfg, opts = snakemake.params.helicopter, snakemake.params.campbell
 imbalanced = helicopter.Helicopter.from_config(cfg)
 heli = imbalanced.balanced()
@@ -19,9 +19,9 @@ ds = rotor_modes.campbell(heli, speeds, check_azimuths_rad=opts["check_azimuths_
 ds = xr.merge([ds, floquet.floquet_dataset(imbalanced, opts["floquet_steps"])], combine_attrs="no_conflicts")
 nominal = ds.sel(rotor_speed=heli.main_rotor.omega_rad_s, method="nearest")
 table = nominal[["frequency", "damping_ratio"]].to_dataframe()
-io.log_info(f"modes at {float(nominal.rotor_speed):.2f} rad/s:\n{table}")
-io.log_info(f"largest periodicity residual: {float(ds.periodicity_residual.max()):.3g}")
-io.log_info(f"Floquet, imbalanced rotor:\n{ds[['floquet_frequency', 'floquet_decay_rate']].to_dataframe()}")
+workflow.log_info(f"modes at {float(nominal.rotor_speed):.2f} rad/s:\n{table}")
+workflow.log_info(f"largest periodicity residual: {float(ds.periodicity_residual.max()):.3g}")
+workflow.log_info(f"Floquet, imbalanced rotor:\n{ds[['floquet_frequency', 'floquet_decay_rate']].to_dataframe()}")
 io.save_figure(campbell_figure(ds), snakemake.output.figure)
 io.write_netcdf(ds, snakemake.output.campbell, {**cfg, "campbell": opts}, section="helicopter",
-                command=io.snakemake_command(snakemake))
+                command=workflow.snakemake_command(snakemake))

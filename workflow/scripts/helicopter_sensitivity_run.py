@@ -4,13 +4,13 @@ import os
 
 os.environ.setdefault("EXUDYN_MODULE", "fast")  # as helicopter_run.py: the same Exudyn module everywhere
 
-from uavdamp import helicopter, io, sensitivity  # noqa: E402
+from uavdamp import helicopter, io, sensitivity, workflow  # noqa: E402
 
-io.start_log(snakemake.log[0])
+workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.helicopter
 heli = helicopter.Helicopter.from_config(cfg)
 options = helicopter.SolverOptions.from_config({**cfg["solver"], "duration": snakemake.params.duration})
 ds = sensitivity.run(heli, snakemake.wildcards.run, options)
-io.log_info(f"{snakemake.wildcards.run}: done")
+workflow.log_info(f"{snakemake.wildcards.run}: done")
 io.write_netcdf(ds, snakemake.output[0], {**cfg, "sensitivity_duration": snakemake.params.duration},
-                section="helicopter", command=io.snakemake_command(snakemake))
+                section="helicopter", command=workflow.snakemake_command(snakemake))
