@@ -12,7 +12,7 @@ from test_platform import CONFIG
 
 from uavdamp import criterion as crit
 from uavdamp import linear_plant
-from uavdamp.linear_plant import LinearPlant, linearise, sine_criteria
+from uavdamp.linear_plant import LinearPlant, linearise, pair_criteria, sine_criteria
 from uavdamp.platform import PlatformSimulator, Seen, sine_input
 
 
@@ -211,3 +211,15 @@ def test_batched_sine_grid_equals_per_point_runs(isolated):
             ds = fine_plant.run(time, y, z, stiffness=200.0, damping=3.0).isel(time=slice(None, None, sub))
             single = crit.camera_criterion(ds.camera_displacement, (0.2, 1.0))
             assert batched[iy, iz] == pytest.approx(single, rel=2e-4), (fy, fz)
+
+
+def test_pair_criteria_is_the_std_of_each_sum():
+    """Direct numpy std of every a_i + b_j (correlated signals, so the covariance term matters)."""
+    rng = np.random.default_rng(5)
+    common = rng.normal(size=(200, 2, 1))
+    a = common + 0.3 * rng.normal(size=(200, 2, 3))
+    b = -0.8 * common + 0.3 * rng.normal(size=(200, 2, 4))
+    a, b = a - a.mean(axis=0), b - b.mean(axis=0)
+    expected = np.array([[np.sqrt(np.sum(np.std(a[:, :, i] + b[:, :, j], axis=0) ** 2)) for j in range(4)]
+                         for i in range(3)])
+    np.testing.assert_allclose(pair_criteria(a, b), expected, rtol=1e-12)

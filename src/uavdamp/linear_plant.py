@@ -347,9 +347,18 @@ def sine_criteria(plant: LinearPlant, stiffness: float, damping: float, freq_y_h
         z0 = plant.model.initial_state(np.zeros((2, freqs.size)), v0)
         out = sine_outputs(cont, free, freqs, axis, amplitude, z0, k, h, rows)  # (time, camera axis, freq)
         centred.append(out - out.mean(axis=0))
-    a, b = (x.reshape(-1, x.shape[2]) for x in centred)  # (time x camera axis, freq)
-    var_a, var_b = (np.sum(x * x, axis=0) / k.size for x in (a, b))
-    cov = a.T @ b / k.size
+    return pair_criteria(*centred)
+
+
+def pair_criteria(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """sqrt of the variance (1/N over time) of a[..., i] + b[..., j] summed over the output rows, for all (i, j).
+
+    a (time, rows, n_a), b (time, rows, n_b): responses with their time means removed. Returns (n_a, n_b).
+    """
+    n = a.shape[0]
+    a, b = (x.reshape(-1, x.shape[2]) for x in (a, b))  # (time x rows, freq)
+    var_a, var_b = (np.sum(x * x, axis=0) / n for x in (a, b))
+    cov = a.T @ b / n
     return np.sqrt(np.maximum(var_a[:, None] + var_b[None, :] + 2 * cov, 0.0))
 
 
