@@ -14,6 +14,7 @@ from uavdamp import criterion as crit
 from uavdamp import linear_plant
 from uavdamp.linear_plant import LinearPlant, linearise, pair_criteria, sine_criteria
 from uavdamp.platform import PlatformSimulator, Seen, sine_input
+from uavdamp.statespace import StateSpace, discretise, lift, propagate
 
 
 def model_of(sim: PlatformSimulator):
@@ -223,3 +224,18 @@ def test_pair_criteria_is_the_std_of_each_sum():
     expected = np.array([[np.sqrt(np.sum(np.std(a[:, :, i] + b[:, :, j], axis=0) ** 2)) for j in range(4)]
                          for i in range(3)])
     np.testing.assert_allclose(pair_criteria(a, b), expected, rtol=1e-12)
+
+
+@pytest.mark.parametrize("steps", [1, 31, 32, 100, 257])
+def test_lifted_propagation_equals_step_by_step(steps):
+    """Blocks of 32 steps by one matrix product give the plain recursion's states (any length, padding)."""
+    rng = np.random.default_rng(2)
+    a = rng.normal(size=(6, 6)) - 4 * np.eye(6)
+    plant = StateSpace(a=a, b=rng.normal(size=(6, 4)), c=np.eye(6), du=np.zeros((6, 2)), dv=np.zeros((6, 2)))
+    step = discretise(plant, 0.01)
+    z0, u, v = rng.normal(size=6), rng.normal(size=(steps, 2)), rng.normal(size=(steps, 2))
+    expected = [z0]
+    for k in range(steps):  # z_{k+1} = phi z_k + gamma_u u_k + gamma_v v_k
+        expected.append(step.phi @ expected[-1] + step.gamma_u @ u[k] + step.gamma_v @ v[k])
+    np.testing.assert_allclose(propagate(step, z0, u, v, lift(step.phi, 32)), np.array(expected), rtol=1e-10,
+                               atol=1e-12)

@@ -30,7 +30,16 @@ import xarray as xr
 from exudyn.itemInterface import SensorKinematicTree
 
 from uavdamp.platform import AXES, Decide, Seen, _on_grid
-from uavdamp.statespace import Discrete, StateSpace, discretise, free_response_rows, propagate, sine_outputs
+from uavdamp.statespace import (
+    Discrete,
+    Lifted,
+    StateSpace,
+    discretise,
+    free_response_rows,
+    lift,
+    propagate,
+    sine_outputs,
+)
 
 # output rows of the plant (camera y, z m; yaw, pitch rad; base y, z m; isolator stroke rate y, z m s-1; mount y, z m)
 OUTPUTS = ("camera_y", "camera_z", "yaw", "pitch", "base_y", "base_z", "stroke_rate_y", "stroke_rate_z",
@@ -38,6 +47,7 @@ OUTPUTS = ("camera_y", "camera_z", "yaw", "pitch", "base_y", "base_z", "stroke_r
 _MOUNT = ("mount_y", "mount_z")
 _ISOLATOR = ("iso_y", "iso_z")
 _CACHE_SIZE = 64  # discretisations kept per plant: an on-off law needs 2, a continuous law one per new C
+_BLOCK = 32  # steps per lifted block (`statespace.lift`); segments shorter than 2 blocks step one by one
 
 
 @dataclass(frozen=True)
@@ -230,6 +240,7 @@ class LinearPlant:
         self.mount, self.body = model.mount, model.body
         self.model = LinearModel(linearise(model))
         self._cache: OrderedDict = OrderedDict()
+        self._lifts: dict = {}
 
     def step_map(self, stiffness: float, damping: float) -> tuple[StateSpace, Discrete]:
         """Continuous plant and its exact step map at (K, C), from the cache when seen recently."""
@@ -243,6 +254,15 @@ class LinearPlant:
         if len(self._cache) > _CACHE_SIZE:
             self._cache.popitem(last=False)
         return value
+
+    def _lifted(self, stiffness: float, damping: float) -> Lifted:
+        """The step map at (K, C) lifted to blocks (built on first use, cached with it)."""
+        key = ("lifted", float(stiffness), float(damping))
+        if key not in self._lifts:
+            if len(self._lifts) >= _CACHE_SIZE:
+                self._lifts.pop(next(iter(self._lifts)))
+            self._lifts[key] = lift(self.step_map(stiffness, damping)[1].phi, _BLOCK)
+        return self._lifts[key]
 
     def _decide(self, damping, n: int, run: dict, z: np.ndarray) -> float:
         """Clipped damping (N s m-1) for the update at grid point n (state z at t_n), as the Exudyn plant."""
@@ -304,7 +324,8 @@ class LinearPlant:
             end = min(start + per_update, steps)
             c = self._decide(damping, start, run, states[start]) if isolated else 0.0
             _, step = self.step_map(stiffness, c)
-            states[start : end + 1] = propagate(step, states[start], u[start:end], slope[start:end])
+            lifted = self._lifted(stiffness, c) if end - start >= 2 * _BLOCK else None
+            states[start : end + 1] = propagate(step, states[start], u[start:end], slope[start:end], lifted)
             applied[start:end] = c
         applied[-1] = applied[-2]
         if not isolated:

@@ -55,14 +55,53 @@ def discretise(plant: StateSpace, h: float) -> Discrete:
     return Discrete(phi=e[:ns, :ns], gamma_u=e[:ns, ns : ns + m], gamma_v=e[:ns, ns + m :])
 
 
-def propagate(step: Discrete, z0: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """States (len(u) + 1, ns) from z0 over len(u) steps; u (steps, 2) at the step starts, v (steps, 2) slopes."""
+@dataclass(frozen=True)
+class Lifted:
+    """A step map lifted to blocks of m steps: powers phi^0..phi^m (m + 1, ns, ns) and the block Toeplitz
+    matrix (m ns, m ns) from a block's forcing (step l, state t) to its states' forced part (i-th state, s)."""
+
+    powers: np.ndarray
+    toeplitz: np.ndarray
+
+
+def lift(phi: np.ndarray, m: int = 32) -> Lifted:
+    """Lift a step map phi to blocks of m steps (see `propagate`)."""
+    ns = phi.shape[0]
+    powers = np.empty((m + 1, ns, ns))
+    powers[0] = np.eye(ns)
+    for i in range(1, m + 1):
+        powers[i] = powers[i - 1] @ phi
+    state, force = np.meshgrid(np.arange(1, m + 1), np.arange(m), indexing="ij")
+    lag = state - 1 - force  # the i-th state after a block's start gets phi^lag of its forcing l, for lag >= 0
+    blocks = np.where((lag >= 0)[..., None, None], powers[np.maximum(lag, 0)], 0.0)  # (i, l, s, t)
+    return Lifted(powers=powers, toeplitz=blocks.transpose(0, 2, 1, 3).reshape(m * ns, m * ns))
+
+
+def propagate(step: Discrete, z0: np.ndarray, u: np.ndarray, v: np.ndarray, lifted: Lifted | None = None) -> np.ndarray:
+    """States (len(u) + 1, ns) from z0 over len(u) steps; u (steps, 2) at the step starts, v (steps, 2) slopes.
+
+    With `lifted` (of step.phi), blocks of m steps cost one matrix product each instead of m Python steps.
+    """
     forcing = u @ step.gamma_u.T + v @ step.gamma_v.T
-    z = np.empty((u.shape[0] + 1, z0.size))
+    n, ns = forcing.shape[0], z0.size
+    z = np.empty((n + 1, ns))
     z[0] = z0
-    phi_t = step.phi.T
-    for k in range(u.shape[0]):
-        z[k + 1] = z[k] @ phi_t + forcing[k]
+    if lifted is None:
+        phi_t = step.phi.T
+        for k in range(n):
+            z[k + 1] = z[k] @ phi_t + forcing[k]
+        return z
+    m = lifted.powers.shape[0] - 1
+    n_blocks = -(-n // m)
+    padded = np.zeros((n_blocks * m, ns))  # forcing after the end changes no state before it
+    padded[:n] = forcing
+    forced = (padded.reshape(n_blocks, m * ns) @ lifted.toeplitz.T).reshape(n_blocks, m, ns)
+    heads = np.empty((n_blocks, ns))  # the state at each block's start
+    heads[0] = z0
+    for j in range(1, n_blocks):
+        heads[j] = lifted.powers[m] @ heads[j - 1] + forced[j - 1, -1]
+    states = np.einsum("ist,jt->jis", lifted.powers[1:], heads) + forced
+    z[1:] = states.reshape(-1, ns)[:n]
     return z
 
 
