@@ -34,6 +34,7 @@ CONFIG = {
     },
     "isolator": {"stiffness_n_m": 10.0, "damping_min_n_s_m": 0.0, "damping_max_n_s_m": 200.0, "update_period_s": 0.5},
     "solver": {"time_step_s": 2.0e-3, "max_frequency_fraction": 0.25},
+    "backend": "linear",
     "response": {"freq_y_hz": 7.01, "freq_z_hz": 8.05, "amplitude_m": 1.3e-3, "duration_s": 3.0, "damping_n_s_m": 2.0},
 }
 PAPER_MODES_HZ = np.array([4.5, 5.7, 6.7])  # Marichal et al. 2014, Table 1
@@ -41,9 +42,9 @@ PAPER_MODES_HZ = np.array([4.5, 5.7, 6.7])  # Marichal et al. 2014, Table 1
 
 def config_with(**changes) -> dict:
     """CONFIG with keys replaced in whichever section holds them (unknown keys go to the top level)."""
-    config = {section: dict(values) for section, values in CONFIG.items()}
+    config = {section: dict(values) if isinstance(values, dict) else values for section, values in CONFIG.items()}
     for key, value in changes.items():
-        section = next((name for name, values in config.items() if key in values), None)
+        section = next((name for name, values in config.items() if isinstance(values, dict) and key in values), None)
         (config[section] if section else config)[key] = value
     return config
 

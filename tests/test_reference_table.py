@@ -1,4 +1,4 @@
-"""Reference table: argmin and tie rule, chunk merge, failures, joblib workers, resume after a kill."""
+"""Reference table: argmin and tie rule, chunk merge, plants, failures, verification, workers, resume."""
 
 from __future__ import annotations
 
@@ -76,12 +76,13 @@ def test_criterion_of_a_sine_is_its_rms():
 
 @pytest.fixture(scope="module")
 def tiny(quick_config):
-    """A small grid on the quick platform: 2 x 2 x 2 x 3 points of 0.6 s."""
+    """A small grid on the quick platform: 2 x 2 x 2 x 3 points of 0.6 s (linear plant)."""
     cfg = dict(quick_config["reference_table"])
     cfg.update(freq_y_hz={"values": [4.0, 8.0]}, freq_z_hz={"values": [5.0, 9.0]},
                stiffness={"values": [10.0, 400.0]}, damping={"values": [1.0, 5.0, 25.0]},
                duration=0.6, window=[0.0, 0.6])
     platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
+    assert platform["backend"] == "linear"
     return platform, grid.GridSpec.from_config(cfg)
 
 
@@ -93,14 +94,36 @@ def single_chunk(tiny):
 
 def test_chunks_merge_to_the_single_chunk_run(tiny, single_chunk):
     platform, spec = tiny
-    chunks = [grid.run_chunk(platform, spec, n_chunks=3, chunk=i) for i in range(3)]
+    chunks = [grid.run_chunk(platform, spec, n_chunks=4, chunk=i) for i in range(4)]
     assert sorted(np.concatenate([c.point.values for c in chunks]).tolist()) == list(range(spec.size))
     merged = grid.merge_chunks(spec, chunks)
     single = grid.merge_chunks(spec, [single_chunk])
     np.testing.assert_array_equal(merged.criterion.values, single.criterion.values)
     assert np.all(np.isfinite(single.criterion.values)) and single.attrs["n_failed"] == 0
+    assert single.attrs["plant"] == "linear" and single_chunk.attrs["plant"] == "linear"
     with pytest.raises(ValueError, match="missing"):
         grid.merge_chunks(spec, chunks[:2])
+    more = [grid.run_chunk(platform, spec, n_chunks=8, chunk=i) for i in range(8)]  # more chunks than (K, C) blocks
+    np.testing.assert_array_equal(grid.merge_chunks(spec, more).criterion.values, single.criterion.values)
+
+
+def test_batched_grid_equals_per_point_evaluation(tiny, single_chunk):
+    """Each point alone (one frequency pair per call) gives the batched value."""
+    platform, spec = tiny
+    points = single_chunk.point.values
+    alone = grid.evaluate_points(grid.split_platform(platform)[1], spec, points, "linear")
+    np.testing.assert_allclose(single_chunk.criterion.values, alone, rtol=1e-10)
+
+
+def test_linear_grid_matches_the_exudyn_grid(tiny, single_chunk):
+    platform, spec = tiny
+    exudyn = grid.run_chunk({**platform, "backend": "exudyn"}, spec)
+    assert exudyn.attrs["plant"] == "exudyn"
+    np.testing.assert_array_equal(exudyn.point.values, single_chunk.point.values)
+    np.testing.assert_allclose(single_chunk.criterion.values, exudyn.criterion.values, rtol=0.01)
+    with pytest.raises(ValueError, match="different plants"):
+        grid.merge_chunks(spec, [grid.run_chunk(platform, spec, n_chunks=2, chunk=0),
+                                 grid.run_chunk({**platform, "backend": "exudyn"}, spec, n_chunks=2, chunk=1)])
 
 
 def test_two_workers_give_identical_numbers(tiny, single_chunk):
@@ -110,18 +133,81 @@ def test_two_workers_give_identical_numbers(tiny, single_chunk):
     np.testing.assert_array_equal(parallel.point.values, single_chunk.point.values)
 
 
-def test_forced_solver_failure_is_nan_flag_and_count(tiny, single_chunk):
+@pytest.mark.parametrize("backend", ["linear", "exudyn"])
+def test_failure_is_nan_flag_and_count(tiny, single_chunk, monkeypatch, backend):
+    """A failing (K, C) block (linear) or point (Exudyn) gives NaN and a flag; the other points are unchanged."""
     platform, spec = tiny
-    ds = grid.run_chunk(platform, spec, fail=frozenset({5}))
-    assert ds.attrs["n_failed"] == 1
-    assert np.isnan(ds.criterion.sel(point=5)) and int(ds.failed.sel(point=5)) == 1
-    others = ds.point.values != 5
-    np.testing.assert_array_equal(ds.criterion.values[others], single_chunk.criterion.values[others])
-    assert "point 5" in json.loads(ds.attrs["errors"])[0]
+    if backend == "linear":
+        real = grid.evaluate_block
+
+        def evaluate_block(plant, spec, block):
+            if block == 1:
+                raise np.linalg.LinAlgError("forced failure of block 1")
+            return real(plant, spec, block)
+
+        monkeypatch.setattr(grid, "evaluate_block", evaluate_block)
+        bad = grid.block_points(spec, 1)
+        message = "block 1"
+    else:
+        real = grid.evaluate
+
+        def evaluate(sim, spec, point):
+            if point == spec.point(5):
+                raise grid.SolverFailed("forced failure of point 5")
+            return real(sim, spec, point)
+
+        monkeypatch.setattr(grid, "evaluate", evaluate)
+        bad = np.array([5])
+        message = "point 5"
+    ds = grid.run_chunk({**platform, "backend": backend}, spec)
+    assert ds.attrs["n_failed"] == bad.size
+    assert np.all(np.isnan(ds.criterion.sel(point=bad))) and np.all(ds.failed.sel(point=bad) == 1)
+    others = ~np.isin(ds.point.values, bad)
+    np.testing.assert_allclose(ds.criterion.values[others], single_chunk.criterion.values[others], rtol=0.01)
+    assert message in json.loads(ds.attrs["errors"])[0]
     full = grid.merge_chunks(spec, [ds])
-    assert full.attrs["n_failed"] == 1
-    table = criterion.reference_table(full)
+    assert full.attrs["n_failed"] == bad.size
+    if backend == "linear":  # a whole (K, C) block failed: criterion.reference_table's mean over it is empty
+        with pytest.warns(RuntimeWarning, match="Mean of empty slice"):
+            table = criterion.reference_table(full)
+    else:
+        table = criterion.reference_table(full)
     assert np.all(np.isfinite(table.damping_opt.values))  # one failed C still leaves the others
+
+
+def test_verification_samples_corners_and_stores_the_difference(tiny, single_chunk):
+    platform, spec = tiny
+    full = grid.merge_chunks(spec, [single_chunk])
+    checked = grid.verify(platform, spec, full, grid.VerifySpec(n_points=18, tolerance=0.01, seed=3))
+    points = checked.verify_point.values
+    corners = {int(np.ravel_multi_index(c, spec.shape)) for c in np.ndindex(2, 2, 2, 2)
+               for c in [(c[0], c[1], c[2], 2 * c[3])]}  # damping axis has 3 values: corners at 0 and 2
+    assert corners <= set(points.tolist()) and len(set(points.tolist())) == 18
+    again = grid.verification_points(spec, 18, 3)
+    np.testing.assert_array_equal(points, again)  # seeded
+    np.testing.assert_array_equal(checked.verify_criterion_linear.values, full.criterion.values.ravel()[points])
+    worst = float(checked.verify_max_relative_difference)
+    assert 0 < worst < 0.01
+    grid.check_verification(spec, checked, tolerance=0.01)  # passes
+    io.check_metadata(checked)
+    with pytest.raises(ValueError, match="reference_table.verify.n_points"):
+        grid.verification_points(spec, 15, 3)
+
+
+def test_verification_failure_names_the_worst_point(tiny, single_chunk, monkeypatch):
+    platform, spec = tiny
+    full = grid.merge_chunks(spec, [single_chunk])
+    real = grid.evaluate
+    off = spec.point(7)
+
+    def evaluate(sim, spec, point):  # the Exudyn plant disagrees by 5 % at point 7
+        return real(sim, spec, point) * (1.05 if point == off else 1.0)
+
+    monkeypatch.setattr(grid, "evaluate", evaluate)
+    checked = grid.verify(platform, spec, full, grid.VerifySpec(n_points=spec.size, tolerance=0.01, seed=1))
+    assert 7 in checked.verify_point.values
+    with pytest.raises(grid.VerificationFailed, match=r"at point 7 \(f_y 4 Hz, f_z 9 Hz, K 10 N/m, C 5 N s/m\)"):
+        grid.check_verification(spec, checked, tolerance=0.01)
 
 
 def test_bad_grid_config_names_the_key(quick_config):
@@ -131,9 +217,13 @@ def test_bad_grid_config_names_the_key(quick_config):
     with pytest.raises(ValueError, match="reference_table.damping"):
         grid.GridSpec.from_config({**cfg, "damping": {"values": [3.0, 1.0]}})
     spec = grid.GridSpec.from_config({**cfg, "damping": {"values": [1.0, 1e4]}})
-    platform = grid.PlatformParams.from_config(quick_config["platform"])
+    platform = grid.PlatformParams.from_config(grid.split_platform(quick_config["platform"])[1])
     with pytest.raises(ValueError, match="damping_min/max"):
         spec.check_damper_bounds(platform)
+    with pytest.raises(ValueError, match="platform.backend"):
+        grid.split_platform({**quick_config["platform"], "backend": "fast"})
+    with pytest.raises(ValueError, match="reference_table.verify.tolerance"):
+        grid.VerifySpec.from_config({"n_points": 24, "tolerance": 0.0, "seed": 1})
 
 
 def test_quick_table_in_pipeline(quick_run):

@@ -4,9 +4,13 @@ Each grid point drives the isolated platform with y = A sin(2 pi f_y t), z = A s
 at stiffness K and constant damping C; the criterion is sqrt(sigma_y^2 + sigma_z^2), the
 standard deviations (1/N, the paper's Eq. 1) of the camera displacement over a window.
 
-Points are numbered in C order over (freq_y, freq_z, stiffness, damping); chunk i of N takes
-points i, i + N, i + 2N, ... so that every chunk sees the whole range of inputs. A point whose
-solver fails gives NaN and `failed = 1`; it never stops the chunk.
+Two plants (config `platform.backend`): "linear" (default; `uavdamp.linear_plant`, every (f_y, f_z)
+of one (K, C) at once from one discretisation) or "exudyn" (time stepping, point by point).
+Points are numbered in C order over (freq_y, freq_z, stiffness, damping); they are grouped in
+(K, C) blocks, and chunk i of N takes blocks i, i + N, i + 2N, ... so that every chunk sees the
+whole range of K and C. A block or point that fails gives NaN and `failed = 1`; it never stops the
+chunk. `verify` reruns a seeded sample of points (the grid's corners included) with the Exudyn
+plant and `check_verification` fails, naming the worst point, above a relative tolerance.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ import xarray as xr
 from uavdamp import criterion as crit
 from uavdamp.contract import SolverFailed
 from uavdamp.excitation import sine_input
+from uavdamp.linear_plant import LinearPlant, sine_criteria
 from uavdamp.platform import ExudynPlant, PlatformParams
 
 DIMS = ("freq_y", "freq_z", "stiffness", "damping")
@@ -31,6 +36,7 @@ COORD_ATTRS = {
     "damping": {"units": "N s m-1", "long_name": "isolator damping C (constant)"},
 }
 FAILED_ATTRS = {"units": "1", "long_name": "1 where the solver failed (criterion NaN)"}
+POINT_LABEL = "flat grid point index, C order over (freq_y, freq_z, stiffness, damping)"
 
 
 def axis_values(spec: dict, key: str) -> np.ndarray:
@@ -65,7 +71,7 @@ class GridSpec:
     window: tuple[float, float]  # s, criterion window [start, end]
 
     @classmethod
-    def from_config(cls, cfg: dict) -> "GridSpec":
+    def from_config(cls, cfg: dict) -> GridSpec:
         spec = cls(
             freq_y=axis_values(cfg["freq_y_hz"], "freq_y_hz"),
             freq_z=axis_values(cfg["freq_z_hz"], "freq_z_hz"),
@@ -112,95 +118,175 @@ class GridSpec:
 
     def coords(self) -> dict:
         return {name: (name, values, COORD_ATTRS[name])
-                for name, values in zip(DIMS, (self.freq_y, self.freq_z, self.stiffness, self.damping))}
+                for name, values in zip(DIMS, (self.freq_y, self.freq_z, self.stiffness, self.damping), strict=True)}
 
 
-def chunk_points(size: int, n_chunks: int, chunk: int) -> np.ndarray:
-    """Flat point indices of chunk `chunk` (0-based) of `n_chunks`: chunk, chunk + n_chunks, ..."""
+def chunk_blocks(spec: GridSpec, n_chunks: int, chunk: int) -> np.ndarray:
+    """(K, C) blocks (flat index ik * n_damping + ic) of chunk `chunk` (0-based) of `n_chunks`: chunk, chunk + N, ..."""
     if not 0 <= chunk < n_chunks:
         raise ValueError(f"chunk {chunk} outside 0..{n_chunks - 1}")
-    return np.arange(chunk, size, n_chunks)
+    return np.arange(chunk, spec.stiffness.size * spec.damping.size, n_chunks)
+
+
+def block_points(spec: GridSpec, block: int) -> np.ndarray:
+    """Flat point indices of one (K, C) block, C order over (freq_y, freq_z)."""
+    ik, ic = divmod(int(block), spec.damping.size)
+    iy, iz = np.meshgrid(np.arange(spec.freq_y.size), np.arange(spec.freq_z.size), indexing="ij")
+    return np.ravel_multi_index((iy.ravel(), iz.ravel(), ik, ic), spec.shape)
+
+
+def chunk_points(spec: GridSpec, n_chunks: int, chunk: int) -> np.ndarray:
+    """Flat point indices of a chunk, block by block."""
+    blocks = chunk_blocks(spec, n_chunks, chunk)
+    return np.concatenate([block_points(spec, b) for b in blocks]) if blocks.size else np.empty(0, dtype=int)
+
+
+@dataclass(frozen=True)
+class VerifySpec:
+    """The pipeline's check of the grid against the Exudyn plant (config `reference_table.verify`)."""
+
+    n_points: int  # points rerun, the grid's corners first
+    tolerance: float  # 1, largest relative criterion difference allowed
+    seed: int  # of the random points beyond the corners
+
+    @classmethod
+    def from_config(cls, cfg: dict) -> VerifySpec:
+        unknown = sorted(set(cfg) - {"n_points", "tolerance", "seed"})
+        if unknown:
+            raise ValueError(f"reference_table.verify: unknown key(s) {unknown}")
+        spec = cls(n_points=int(cfg["n_points"]), tolerance=float(cfg["tolerance"]), seed=int(cfg["seed"]))
+        if spec.n_points < 1:
+            raise ValueError(f"reference_table.verify.n_points: must be >= 1, got {spec.n_points}")
+        if not spec.tolerance > 0:
+            raise ValueError(f"reference_table.verify.tolerance: must be > 0, got {spec.tolerance}")
+        return spec
+
+
+def split_platform(platform: dict) -> tuple[str, dict]:
+    """(the plant `platform.backend` names, the platform section)."""
+    return PlatformParams.from_config(platform).backend, platform
+
+
 
 
 # ------------------------------------------------------------------------------------------ workers
 
-_SIMULATORS: dict[str, ExudynPlant] = {}  # one built model per worker process and platform config
+_PLANTS: dict[str, dict] = {}  # one built model per worker process and platform config
 
 
-def _simulator(platform: dict) -> tuple[ExudynPlant, float]:
-    """The worker's cached simulator for this platform config, and the build time it cost now (s)."""
+def _plant(platform: dict, backend: str) -> tuple[ExudynPlant | LinearPlant, float]:
+    """The worker's cached plant for this platform config and backend, and the build time it cost now (s)."""
     key = json.dumps(platform, sort_keys=True)
-    if key in _SIMULATORS:
-        return _SIMULATORS[key], 0.0
-    sim = ExudynPlant(platform, mount="isolated")
-    _SIMULATORS.clear()
-    _SIMULATORS[key] = sim
-    return sim, sim.build_time
+    if key not in _PLANTS:
+        _PLANTS.clear()
+        _PLANTS[key] = {}
+    cached = _PLANTS[key]
+    if backend in cached:
+        return cached[backend], 0.0
+    t0 = time.perf_counter()
+    if "exudyn" not in cached:
+        cached["exudyn"] = ExudynPlant(platform, mount="isolated")
+    if backend == "linear":
+        cached["linear"] = LinearPlant(cached["exudyn"].model)
+    return cached[backend], time.perf_counter() - t0
 
 
 def evaluate(sim: ExudynPlant, spec: GridSpec, point: tuple[float, float, float, float]) -> float:
-    """Criterion, m, of one grid point (raises SolverFailed if the solver stops)."""
+    """Criterion, m, of one grid point with the Exudyn plant (raises SolverFailed if the solver stops)."""
     freq_y, freq_z, stiffness, damping = point
     t, y, z = sine_input(freq_y, freq_z, spec.amplitude, spec.duration, sim.params.time_step)
     ds = sim.run(t, y, z, stiffness=stiffness, law=damping)
     return crit.camera_criterion(ds.camera_displacement, spec.window)
 
 
-def evaluate_batch(platform: dict, spec: GridSpec, indices: np.ndarray, fail: frozenset = frozenset()) -> dict:
-    """Criterion of each point in `indices`; failures become NaN with a flag and the error text.
+def evaluate_block(plant: LinearPlant, spec: GridSpec, block: int) -> np.ndarray:
+    """Criteria, m, of every (f_y, f_z) of one (K, C) block with the linear plant, C order over (f_y, f_z)."""
+    ik, ic = divmod(int(block), spec.damping.size)
+    values = sine_criteria(plant, spec.stiffness[ik], spec.damping[ic], spec.freq_y, spec.freq_z, spec.amplitude,
+                           spec.duration, spec.window)
+    return values.ravel()
 
-    `fail` holds point indices forced to fail (tests of the failure path). Returns arrays and the
-    time spent building, in the solver, and in total (s).
+
+def evaluate_batch(platform: dict, spec: GridSpec, blocks: np.ndarray, backend: str = "linear") -> dict:
+    """Criteria of every point of `blocks`; failures become NaN with a flag and the error text.
+
+    Returns arrays over the blocks' points and the time spent building, in the plant and in total (s).
     """
+    from threadpoolctl import threadpool_limits
+
     t0 = time.perf_counter()
-    sim, build_time = _simulator(platform)
+    plant, build_time = _plant(platform, backend)
+    indices = np.concatenate([block_points(spec, b) for b in blocks])
     values = np.full(indices.size, np.nan)
     failed = np.zeros(indices.size, dtype=np.int8)
     errors: list[str] = []
     solve_time = 0.0
-    for k, index in enumerate(indices):
-        try:
-            if int(index) in fail:
-                raise SolverFailed(f"forced failure of point {int(index)}")
-            values[k] = evaluate(sim, spec, spec.point(int(index)))
-        except (SolverFailed, FloatingPointError) as error:
-            failed[k] = 1
-            errors.append(f"point {int(index)} {spec.point(int(index))}: {error}")
-        solve_time += sim.solve_time
+    per_block = spec.freq_y.size * spec.freq_z.size
+    with threadpool_limits(limits=1):  # small matrices: BLAS threads only contend
+        for b, block in enumerate(blocks):
+            part = slice(b * per_block, (b + 1) * per_block)
+            if backend == "linear":
+                t1 = time.perf_counter()
+                try:
+                    values[part] = evaluate_block(plant, spec, block)
+                except (np.linalg.LinAlgError, FloatingPointError) as error:
+                    failed[part] = 1
+                    errors.append(f"block {int(block)} (K, C) = {spec.point(int(indices[part][0]))[2:]}: {error}")
+                solve_time += time.perf_counter() - t1
+                continue
+            for k in range(part.start, part.stop):
+                index = int(indices[k])
+                try:
+                    values[k] = evaluate(plant, spec, spec.point(index))
+                except (SolverFailed, FloatingPointError) as error:
+                    failed[k] = 1
+                    errors.append(f"point {index} {spec.point(index)}: {error}")
+                solve_time += plant.solve_time
+    failed[np.isnan(values)] = 1
     return {"indices": indices, "criterion": values, "failed": failed, "errors": errors,
             "build_time": build_time, "solve_time": solve_time, "wall_time": time.perf_counter() - t0}
 
 
-def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int = 0, n_jobs: int = 1,
-              batches_per_job: int = 4, progress: bool = False, fail: frozenset = frozenset()) -> xr.Dataset:
-    """Evaluate one chunk's points with `n_jobs` joblib workers (loky, one BLAS thread each).
-
-    Returns a dataset over `point` (flat grid index) with `criterion`, m, and `failed`, 1; timing
-    and failure counts in its attributes.
-    """
+def _fan_out(function, batches: list, n_jobs: int, progress: bool) -> list:
+    """function(batch) for every batch, in-process (n_jobs 1) or on n_jobs loky workers, one BLAS thread each."""
     from joblib import Parallel, delayed, parallel_config
 
-    t0 = time.perf_counter()
-    indices = chunk_points(spec.size, n_chunks, chunk)
-    n_batches = max(1, min(indices.size, n_jobs * batches_per_job))
-    batches = [b for b in np.array_split(indices, n_batches) if b.size]
     if n_jobs == 1:
-        parts = list(_progress((evaluate_batch(platform, spec, b, fail) for b in batches), len(batches), progress))
-    else:
-        with parallel_config(backend="loky", inner_max_num_threads=1):
-            results = Parallel(n_jobs=n_jobs, return_as="generator")(
-                delayed(evaluate_batch)(platform, spec, b, fail) for b in batches)
-            parts = list(_progress(results, len(batches), progress))
+        return list(_progress((function(b) for b in batches), len(batches), progress))
+    with parallel_config(backend="loky", inner_max_num_threads=1):
+        results = Parallel(n_jobs=n_jobs, return_as="generator")(delayed(function)(b) for b in batches)
+        return list(_progress(results, len(batches), progress))
+
+
+def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int = 0, n_jobs: int = 1,
+              batches_per_job: int = 4, progress: bool = False) -> xr.Dataset:
+    """Evaluate one chunk's points with `n_jobs` joblib workers on the plant `platform.backend` names.
+
+    Returns a dataset over `point` (flat grid index) with `criterion`, m, and `failed`, 1; the plant,
+    timing and failure counts in its attributes.
+    """
+    from functools import partial
+
+    t0 = time.perf_counter()
+    backend, model = split_platform(platform)
+    blocks = chunk_blocks(spec, n_chunks, chunk)
+    n_batches = max(1, min(blocks.size, n_jobs * batches_per_job))
+    batches = [b for b in np.array_split(blocks, n_batches) if b.size]
+    parts = _fan_out(partial(evaluate_batch, model, spec, backend=backend), batches, n_jobs, progress)
+    indices = np.concatenate([p["indices"] for p in parts]) if parts else np.empty(0, dtype=int)
     criterion = np.concatenate([p["criterion"] for p in parts]) if parts else np.empty(0)
     failed = np.concatenate([p["failed"] for p in parts]) if parts else np.empty(0, dtype=np.int8)
     errors = [e for p in parts for e in p["errors"]]
-    point_attrs = {"units": "1", "long_name": "flat grid point index, C order over (freq_y, freq_z, stiffness, damping)"}
+    order = np.argsort(indices, kind="stable")  # CF: a coordinate is strictly monotonic
+    indices, criterion, failed = indices[order], criterion[order], failed[order]
+    point_attrs = {"units": "1", "long_name": POINT_LABEL}
     return xr.Dataset(
         {"criterion": ("point", criterion, crit.CRITERION_ATTRS),
          "failed": ("point", failed, FAILED_ATTRS)},
         coords={"point": ("point", indices, point_attrs)},
-        attrs={"chunk": chunk, "n_chunks": n_chunks, "n_jobs": n_jobs, "n_failed": int(failed.sum()),
-               "errors": json.dumps(errors), "build_time_s": sum(p["build_time"] for p in parts),
+        attrs={"plant": backend, "chunk": chunk, "n_chunks": n_chunks, "n_jobs": n_jobs,
+               "n_failed": int(failed.sum()), "errors": json.dumps(errors),
+               "build_time_s": sum(p["build_time"] for p in parts),
                "solver_time_s": sum(p["solve_time"] for p in parts),
                "worker_time_s": sum(p["wall_time"] for p in parts), "wall_time_s": time.perf_counter() - t0},
     )
@@ -217,7 +303,8 @@ def _progress(iterable, total: int, show: bool):
 def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:
     """The full grid from chunk datasets: `criterion` and `failed` over (freq_y, freq_z, stiffness, damping).
 
-    Raises ValueError if a point is missing or present twice (no point is silently dropped).
+    Raises ValueError if a point is missing or present twice (no point is silently dropped), or if the
+    chunks come from different plants.
     """
     criterion = np.full(spec.size, np.nan)
     failed = np.zeros(spec.size, dtype=np.int8)
@@ -233,14 +320,102 @@ def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:
                          f"(first {missing[:5].tolist()}), {doubled.size} present twice")
     if np.any(np.isnan(criterion) & (failed == 0)):
         raise ValueError("a point has no criterion but is not flagged as failed")
+    plants = sorted({ds.attrs.get("plant", "exudyn") for ds in chunks})
+    if len(plants) > 1:
+        raise ValueError(f"chunks come from different plants {plants}: rerun the grid with one platform.backend")
     errors = [e for ds in chunks for e in json.loads(ds.attrs.get("errors", "[]"))]
     return xr.Dataset(
         {"criterion": (DIMS, criterion.reshape(spec.shape), crit.CRITERION_ATTRS),
          "failed": (DIMS, failed.reshape(spec.shape), FAILED_ATTRS)},
         coords=spec.coords(),
-        attrs={"n_points": spec.size, "n_failed": int(failed.sum()), "errors": json.dumps(errors),
-               "amplitude_m": spec.amplitude, "duration_s": spec.duration, "window_s": list(spec.window),
+        attrs={"plant": plants[0] if plants else "linear", "n_points": spec.size, "n_failed": int(failed.sum()),
+               "errors": json.dumps(errors), "amplitude_m": spec.amplitude, "duration_s": spec.duration,
+               "window_s": list(spec.window),
                "solver_time_s": float(sum(ds.attrs.get("solver_time_s", 0.0) for ds in chunks)),
                "build_time_s": float(sum(ds.attrs.get("build_time_s", 0.0) for ds in chunks)),
                "worker_time_s": float(sum(ds.attrs.get("worker_time_s", 0.0) for ds in chunks))},
     )
+
+
+# ------------------------------------------------------------------------------------------ verification
+
+
+class VerificationFailed(RuntimeError):
+    """The grid's plant and the Exudyn plant disagree beyond the tolerance at some verification point."""
+
+
+def verification_points(spec: GridSpec, n_points: int, seed: int) -> np.ndarray:
+    """Flat indices: the grid's corners (all of them), then seeded random other points up to n_points."""
+    ends = [np.unique([0, n - 1]) for n in spec.shape]
+    corners = np.ravel_multi_index(tuple(g.ravel() for g in np.meshgrid(*ends, indexing="ij")), spec.shape)
+    if n_points < corners.size:
+        raise ValueError(f"reference_table.verify.n_points: must be >= the grid's {corners.size} corners, "
+                         f"got {n_points}")
+    others = np.setdiff1d(np.arange(spec.size), corners)
+    rng = np.random.default_rng(seed)
+    extra = rng.choice(others, size=min(n_points - corners.size, others.size), replace=False)
+    return np.concatenate([corners, np.sort(extra)]).astype(int)
+
+
+def evaluate_points(platform: dict, spec: GridSpec, indices: np.ndarray, backend: str) -> np.ndarray:
+    """Criterion, m, of single points with one plant (NaN where the Exudyn solver fails)."""
+    from threadpoolctl import threadpool_limits
+
+    plant, _ = _plant(platform, backend)
+    values = np.full(len(indices), np.nan)
+    with threadpool_limits(limits=1):
+        for k, index in enumerate(indices):
+            fy, fz, stiffness, damping = spec.point(int(index))
+            if backend == "linear":
+                values[k] = sine_criteria(plant, stiffness, damping, [fy], [fz], spec.amplitude, spec.duration,
+                                          spec.window)[0, 0]
+                continue
+            try:
+                values[k] = evaluate(plant, spec, (fy, fz, stiffness, damping))
+            except (SolverFailed, FloatingPointError):
+                pass
+    return values
+
+
+def verify(platform: dict, spec: GridSpec, full: xr.Dataset, check: VerifySpec, n_jobs: int = 1) -> xr.Dataset:
+    """Rerun `check.n_points` points with the Exudyn plant (and the linear one where the grid is Exudyn's).
+
+    Returns `verify_point`, `verify_criterion_linear`, `verify_criterion_exudyn`, `verify_relative_difference`
+    over `verify`, and the scalar `verify_max_relative_difference` (inf where an Exudyn run failed).
+    """
+    from functools import partial
+
+    backend, model = split_platform(platform)
+    points = verification_points(spec, check.n_points, check.seed)
+    on_grid = full.criterion.transpose(*DIMS).values.ravel()[points]
+    batches = [b for b in np.array_split(points, max(1, min(points.size, 2 * n_jobs))) if b.size]
+    other = "exudyn" if backend == "linear" else "linear"
+    rerun = np.concatenate(_fan_out(partial(evaluate_points, model, spec, backend=other), batches, n_jobs, False))
+    linear, exudyn = (on_grid, rerun) if backend == "linear" else (rerun, on_grid)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.abs(linear - exudyn) / np.abs(exudyn)
+    relative = np.where(np.isfinite(relative), relative, np.inf)
+    metres = crit.CRITERION_ATTRS["units"]
+    return xr.Dataset(
+        {"verify_point": ("verify", points, {"units": "1", "long_name": POINT_LABEL}),
+         "verify_criterion_linear": ("verify", linear, {"units": metres, "long_name": "criterion, linear plant"}),
+         "verify_criterion_exudyn": ("verify", exudyn, {"units": metres, "long_name": "criterion, Exudyn plant"}),
+         "verify_relative_difference": ("verify", relative, {"units": "1", "long_name": "|linear - Exudyn| / Exudyn"}),
+         "verify_max_relative_difference": ((), float(relative.max()), {
+             "units": "1", "long_name": "largest relative criterion difference, linear vs Exudyn plant"})},
+        attrs={"verify_seed": check.seed, "verify_tolerance": check.tolerance},
+    )
+
+
+def check_verification(spec: GridSpec, checked: xr.Dataset, tolerance: float) -> None:
+    """Raise VerificationFailed naming the worst point if the largest relative difference exceeds `tolerance`."""
+    relative = checked.verify_relative_difference.values
+    worst = int(np.argmax(relative))
+    if relative[worst] > tolerance:
+        index = int(checked.verify_point.values[worst])
+        fy, fz, k, c = spec.point(index)
+        linear, exudyn = (checked[f"verify_criterion_{name}"].values[worst] for name in ("linear", "exudyn"))
+        raise VerificationFailed(
+            f"linear and Exudyn plants differ by {relative[worst]:.3%} (tolerance {tolerance:.3%}) at point {index} "
+            f"(f_y {fy:g} Hz, f_z {fz:g} Hz, K {k:g} N/m, C {c:g} N s/m): linear "
+            f"{linear:.6g} m, Exudyn {exudyn:.6g} m")

@@ -197,18 +197,18 @@ def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[
     jitter = float(np.sqrt(np.mean(step**2))) if step.size else float("nan")
     scatter = float(np.sqrt(np.var(frames.centroid_px, axis=0).sum()))
     return {
-        "blur_median": (float(np.median(blur)), "px", "median over frames of the smear extent during the exposure"),
-        "blur_p95": (float(np.percentile(blur, 95)), "px", "95th percentile over frames of the smear extent"),
-        "blur_max": (float(blur.max()), "px", "largest smear extent of a frame"),
-        "blur_path_median": (float(np.median(frames.path_px)), "px", "median over frames of the image path length"),
-        "blur_path_p95": (float(np.percentile(frames.path_px, 95)), "px", "95th percentile of the image path length"),
+        "blur_median": (float(np.median(blur)), "1", "median over frames of the smear extent during the exposure (pixels)"),
+        "blur_p95": (float(np.percentile(blur, 95)), "1", "95th percentile over frames of the smear extent (pixels)"),
+        "blur_max": (float(blur.max()), "1", "largest smear extent of a frame (pixels)"),
+        "blur_path_median": (float(np.median(frames.path_px)), "1", "median over frames of the image path length (pixels)"),
+        "blur_path_p95": (float(np.percentile(frames.path_px, 95)), "1", "95th percentile of the image path length (pixels)"),
         "sharp_fraction": (
             float(np.mean(blur <= sharp_threshold_px)),
             "1",
             f"fraction of frames with smear extent <= {sharp_threshold_px:g} px",
         ),
-        "frame_jitter_rms": (jitter, "px", "RMS distance between the centroids of consecutive frames"),
-        "centroid_std": (scatter, "px", "scatter of the frame centroids, sqrt(var u + var v)"),
+        "frame_jitter_rms": (jitter, "1", "RMS distance between the centroids of consecutive frames (pixels)"),
+        "centroid_std": (scatter, "1", "scatter of the frame centroids, sqrt(var u + var v) (pixels)"),
         "mtf_nyquist_median": (
             float(np.median(frames.mtf_nyquist)),
             "1",
@@ -216,8 +216,8 @@ def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[
         ),
         "rolling_shutter_skew_p95": (
             float(np.percentile(frames.skew_px, 95)),
-            "px",
-            "95th percentile of the rolling-shutter image shift from first to last row",
+            "1",
+            "95th percentile of the rolling-shutter image shift from first to last row (pixels)",
         ),
     }
 

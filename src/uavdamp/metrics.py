@@ -9,7 +9,7 @@ concatenates them with xarray. Adding a metric is one function with ``@register(
     std_settled        the same after settle_s (paper: "both converge after about 1 s"), per axis, m
     energy_dissipated  energy the damper dissipated, sum over axes of the integral of C v_rel^2 dt, J
     image              line of sight and image blur over the run (`uavdamp.image_quality`; needs options.camera):
-                       los_* (rad), blur_* (px), sharp_fraction, mtf_nyquist_median, frame_blur (frame) px
+                       los_* (rad), blur_* (pixels, units "1": UDUNITS has no pixel), sharp_fraction, mtf_nyquist_median, frame_blur (frame) px
 
 A metric may also return a Dataset: a group of named values computed together.
 """
@@ -89,6 +89,6 @@ def image(response: xr.Dataset, options) -> xr.Dataset:
     frames = image_quality.frame_metrics(*args)
     out = xr.Dataset({name: ((), value, {"units": units, "long_name": long_name})
                       for name, (value, units, long_name) in values.items()})
-    out["frame_blur"] = ("frame", frames.blur_px, {"units": "px", "long_name": "blur of each frame: extent of the "
-                                                   "image path of the scene point during the exposure"})
+    out["frame_blur"] = ("frame", frames.blur_px, {"units": "1", "long_name": "blur of each frame: extent of the "
+                                                   "image path of the scene point during the exposure (pixels)"})
     return out.assign_coords(frame=("frame", frames.start_s, {"units": "s", "long_name": "frame start time"}))

@@ -19,7 +19,9 @@ STUDY_EXCITATION = config_view(
     config["study"], keep=["cases", "duration_s", "highpass_hz", "tracking"]
 )
 STUDY_RUNS = {
-    **config_view(config["study"], drop=["cases", "duration_s", "highpass_hz", "figures"]),
+    **config_view(
+        config["study"], drop=["cases", "duration_s", "highpass_hz", "figures"]
+    ),
     "camera": canonical(config["camera"]),
 }
 STUDY_FIGURES = canonical(config["study"]["figures"])

@@ -1,3 +1,10 @@
+# The grid's chunks see only what they compute (no verify, chunking, threads or table keys): a change of the
+# verification or the table reruns the gather job alone.
+REFERENCE_CHUNK_GRID = config_view(
+    config["reference_table"], drop=["n_chunks", "threads", "flat_tolerance", "verify"]
+)
+
+
 rule reference_table_chunk:
     output:
         "reports/reference_table/chunks/{scatteritem}.nc",
@@ -9,7 +16,7 @@ rule reference_table_chunk:
         ENV
     threads: config["reference_table"]["threads"]
     params:
-        grid=REFERENCE_GRID,
+        grid=REFERENCE_CHUNK_GRID,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/reference_table_chunk.py"
@@ -24,10 +31,15 @@ rule reference_table:
         figure="reports/figures/reference_table.png",
     log:
         "reports/logs/reference_table/gather.log",
+    benchmark:
+        "reports/benchmarks/reference_table/gather.tsv"
     conda:
         ENV
+    threads: config["reference_table"]["threads"]
     params:
-        grid=REFERENCE_GRID,
+        grid=REFERENCE_CHUNK_GRID,
+        platform=PLATFORM_MODEL,
+        verify=canonical(config["reference_table"]["verify"]),
         flat_tolerance=config["reference_table"]["flat_tolerance"],
     script:
         "../scripts/reference_table.py"

@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from uavdamp import io, learning, metrics, study, workflow
+from uavdamp import io, learning, study, workflow
 from uavdamp.plots import study as plots
 
 workflow.start_log(snakemake.log[0])
@@ -10,7 +10,8 @@ cfg, fig = snakemake.params.study, snakemake.params.figures
 cases = io.open_dataset(snakemake.input.cases)
 model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
 ds = study.run_study(cases, snakemake.params.platform, model, study.StudyOptions.from_config(cfg))
-for name in metrics.REGISTRY:
+scalars = [v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}]
+for name in scalars:
     workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 k_paper = float(ds.stiffness[0])
 io.save_figure(plots.rigid_mount_figure(ds, fig["case_1"], "y"), snakemake.output.fig10)

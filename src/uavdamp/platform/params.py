@@ -109,6 +109,7 @@ class PlatformParams:
     structure: Structure
     isolator: Isolator
     solver: Solver
+    backend: str  # the plant of the grid and the isolated study runs: "linear" or "exudyn" (`uavdamp.plants`)
     response: Response | None = setting(default=None)
 
     @classmethod
@@ -117,6 +118,7 @@ class PlatformParams:
         return config if isinstance(config, PlatformParams) else load(cls, config, "platform")
 
     def validate(self) -> None:
+        require(self.backend in BACKENDS, "platform.backend", f"must be one of {list(BACKENDS)}, got {self.backend!r}")
         require(self.isolator.update_period >= self.solver.time_step, "platform.isolator.update_period_s",
                 f"({self.isolator.update_period}) must be >= platform.solver.time_step_s ({self.solver.time_step})")
         if self.response is not None:
