@@ -1,7 +1,8 @@
 """The closed-loop study: every input case, isolator stiffness and damping strategy, with metrics.
 
 For each case and stiffness, each strategy named in the config (``study.strategies``, `uavdamp.strategies`)
-runs on the plant of its mount; every registered metric (`uavdamp.metrics`) is applied to each run, and
+runs on its plant (`uavdamp.plants`: platform.backend for the isolated mount, Exudyn for the rigid one and for
+laws switching every step; `plant` records which); every registered metric (`uavdamp.metrics`) is applied to each run, and
 responses and metrics are stacked over (case, stiffness, strategy) with xarray.
 """
 
@@ -14,9 +15,9 @@ import xarray as xr
 
 from uavdamp import metrics, strategies, tracking
 from uavdamp.config import load, require, setting
-from uavdamp.contract import MOUNTS
 from uavdamp.excitation import on_grid
-from uavdamp.platform import ExudynPlant, PlatformParams
+from uavdamp.platform import PlatformParams
+from uavdamp.plants import Plants
 from uavdamp.camera import CameraModel
 from uavdamp.tracking import TrackerOptions
 
@@ -51,7 +52,7 @@ class StudyOptions:
 def run_study(cases: xr.Dataset, platform, model, options: StudyOptions) -> xr.Dataset:
     """Simulate every case x stiffness x strategy; return the comparison dataset."""
     params = PlatformParams.from_config(platform)
-    plants = {mount: ExudynPlant(params, mount=mount) for mount in MOUNTS}
+    plants = Plants(params)
     time = cases.time.values
     per_case = []
     for case in cases.case.values:
@@ -59,7 +60,8 @@ def run_study(cases: xr.Dataset, platform, model, options: StudyOptions) -> xr.D
         per_stiffness = []
         for stiffness in options.stiffness:
             def run(strategy, stiffness=stiffness, y=y, z=z):
-                return plants[strategy.mount].run(time, y, z, stiffness=stiffness, law=strategy.law)
+                return plants.for_run(strategy.mount, strategy.law).run(time, y, z, stiffness=stiffness,
+                                                                        law=strategy.law)
 
             context = strategies.Context(options, params, model, float(stiffness), run)
             per_stiffness.append(_one_case_and_stiffness(context, options.strategies))
@@ -80,7 +82,8 @@ def _one_case_and_stiffness(context: strategies.Context, names) -> xr.Dataset:
     for name in names:
         strategy = strategies.build(name, context)
         response = context.run(strategy)
-        runs.append(xr.merge([response[list(KEPT)], metrics.evaluate(response, context.options)]))
+        run = xr.merge([response[list(KEPT)], metrics.evaluate(response, context.options)])
+        runs.append(run.assign(plant=((), response.attrs["plant"], {"units": "1", "long_name": "plant of the run"})))
         for key, (value, units, long_name) in strategy.info.items():
             info[key] = ((), value, {"units": units, "long_name": long_name})
     return _concat(runs, "strategy").assign(info)
