@@ -262,7 +262,7 @@ class ANFIS(RegressorMixin, BaseEstimator):
             return X, y, None, None
         n = len(y)
         if n < 2:
-            raise ValueError(f"validation_fraction={self.validation_fraction} needs at least 2 samples, got {n}")
+            raise ValueError(f"validation_fraction={self.validation_fraction} needs at least 2 samples, got n_samples={n}")
         n_val = min(max(int(round(self.validation_fraction * n)), 1), n - 1)
         val = np.zeros(n, dtype=bool)
         val[rng.permutation(n)[:n_val]] = True
