@@ -268,7 +268,7 @@ def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict) -> tuple[Ta
         samples["regret"] = ("sample", scores.regret_by_model.sel(model="anfis").values,
                              {"units": "1", "long_name": "criterion at the ANFIS damping / optimal criterion"})
     record = xr.merge([_epoch_record(model.anfis, mode, options.get("validation_fraction", 0)), samples,
-                       scores, cv], combine_attrs="drop")
+                       scores, cv], combine_attrs="override")
     anfis = scores.sel(model="anfis")
     rel = np.abs(predicted - y) / np.abs(y)
     record.attrs = {
