@@ -41,8 +41,9 @@ Choices worth knowing (each is a guard):
   dropped). An optional Tikhonov term ``ridge`` * mean(diag(A^T A)) (default 0) regularises the
   normal equations.
 * Threads. ``fit`` runs with one BLAS thread (threadpoolctl): numpy's and scipy's OpenBLAS pools
-  contend while the normal equations are formed and solved, and default threads were 1.3-4x
-  slower than one thread for 27-64 rules on 1000-10000 rows (benchmarks/bench_anfis.py).
+  contend while the normal equations are formed and solved. Without that limit, default threads
+  were 1.2-26x slower than one thread for 27-64 rules on 1000-10000 rows (benchmarks/bench_anfis.py
+  on 2 shared cores); with it, the two are equal within timing noise.
 
 No file I/O here: ``to_dataset`` / ``from_dataset`` convert to and from an ``xarray.Dataset``.
 """
@@ -265,7 +266,9 @@ class ANFIS(RegressorMixin, BaseEstimator):
             return X, y, None, None
         n = len(y)
         if n < 2:
-            raise ValueError(f"validation_fraction={self.validation_fraction} needs at least 2 samples, got n_samples={n}")
+            raise ValueError(
+                f"validation_fraction={self.validation_fraction} needs at least 2 samples, got n_samples={n}"
+            )
         n_val = min(max(int(round(self.validation_fraction * n)), 1), n - 1)
         val = np.zeros(n, dtype=bool)
         val[rng.permutation(n)[:n_val]] = True

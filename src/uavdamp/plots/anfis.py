@@ -19,7 +19,8 @@ def membership_figure(model):
     for i, ax in enumerate(axes[0]):
         lo, hi = model.input_range_[i]
         x = np.linspace(lo, hi, 400) if hi > lo else np.linspace(lo - 1, hi + 1, 400)
-        for k, ((c0, s0), (c1, s1)) in enumerate(zip(zip(*before[i], strict=True), zip(*after[i], strict=True), strict=True)):
+        pairs = zip(zip(*before[i], strict=True), zip(*after[i], strict=True), strict=True)
+        for k, ((c0, s0), (c1, s1)) in enumerate(pairs):
             line, = ax.plot(x, np.exp(-((x - c1) ** 2) / (2 * s1**2)), lw=1.6, label=f"MF{k + 1}")
             ax.plot(x, np.exp(-((x - c0) ** 2) / (2 * s0**2)), ls="--", lw=1.0, color=line.get_color())
         ax.set(xlabel=f"{model.input_names_[i]} ({model.input_units_[i]})", ylabel="membership", ylim=(0, 1.05),
