@@ -1,17 +1,26 @@
-"""Fit time of the ANFIS estimator: 3 inputs x 2 MFs (8 rules, grid init) on 300 rows.
+"""Fit time of the ANFIS: 8, 27 and 64 grid rules on 1000 and 10000 rows, default BLAS threads vs one thread.
 
-Run: PYTHONPATH=src python benchmarks/bench_anfis.py [--repeats 5]
-Target (issue 5): under 0.05 s per 100 epochs.
+Columns: "default threads" is ``ANFIS.fit`` as shipped, called with the process's default BLAS
+threads; "one thread" is the same fit called inside ``threadpoolctl.threadpool_limits(1)``;
+"no internal limit" is the default-threads fit with fit's own one-thread limit lifted
+(``uavdamp.anfis.threadpool_limits`` replaced by a no-op), i.e. the behaviour before issue 16.
+
+Run: PYTHONPATH=src python benchmarks/bench_anfis.py [--repeats 3] [--epochs 50]
+Target (issue 16): default threads never slower than one thread (ratio <= 1 up to timing noise).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import statistics
 import time
+from unittest import mock
 
 import numpy as np
+from threadpoolctl import threadpool_info, threadpool_limits
 
+from uavdamp import anfis
 from uavdamp.anfis import ANFIS
 
 LO = np.array([5.0, 5.0, 10.0])  # f_y [Hz], f_z [Hz], K [N/m]
@@ -26,7 +35,7 @@ def data(n_rows: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
 
 def fit_seconds(X: np.ndarray, y: np.ndarray, repeats: int, **params) -> float:
     """Median wall time of `repeats` fits (after one warm-up fit)."""
-    ANFIS(**{**params, "epochs": 5}).fit(X, y)
+    ANFIS(**{**params, "epochs": 2}).fit(X, y)
     times = []
     for _ in range(repeats):
         start = time.perf_counter()
@@ -37,22 +46,24 @@ def fit_seconds(X: np.ndarray, y: np.ndarray, repeats: int, **params) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5, help="fits per configuration (median reported)")
-    parser.add_argument("--rows", type=int, default=300, help="training rows")
+    parser.add_argument("--repeats", type=int, default=3, help="fits per configuration (median reported)")
+    parser.add_argument("--epochs", type=int, default=50, help="epochs per fit")
     args = parser.parse_args()
-    X, y = data(args.rows)
-    cases = [
-        ("grid 3x2 (8 rules)", dict(n_mfs=2), 100),
-        ("grid 3x2 (8 rules)", dict(n_mfs=2), 500),
-        ("fcm, 2 rules", dict(init="fcm", n_rules=2), 100),
-        ("fcm, 2 rules", dict(init="fcm", n_rules=2), 500),
-        ("grid 3x3 (27 rules)", dict(n_mfs=3), 100),
-    ]
-    print(f"ANFIS fit time, {args.rows} rows x 3 inputs, median of {args.repeats}")
-    print(f"{'model':<22}{'epochs':>8}{'fit [s]':>10}{'s / 100 epochs':>16}")
-    for label, params, epochs in cases:
-        seconds = fit_seconds(X, y, args.repeats, epochs=epochs, **params)
-        print(f"{label:<22}{epochs:>8}{seconds:>10.4f}{100 * seconds / epochs:>16.4f}")
+    pools = ", ".join(f"{p['internal_api']} x{p['num_threads']}" for p in threadpool_info())
+    print(f"ANFIS fit time, 3 inputs, grid init, {args.epochs} epochs, median of {args.repeats}; BLAS pools: {pools}")
+    print(f"{'rules':>6}{'rows':>7}{'default threads [s]':>21}{'one thread [s]':>16}{'ratio':>7}"
+          f"{'no internal limit [s]':>23}")
+    no_limit = mock.patch.object(anfis, "threadpool_limits", lambda **_: contextlib.nullcontext())
+    for n_rows in (1000, 10000):
+        X, y = data(n_rows)
+        for n_mfs in (2, 3, 4):
+            params = dict(n_mfs=n_mfs, epochs=args.epochs)
+            default = fit_seconds(X, y, args.repeats, **params)
+            with threadpool_limits(limits=1, user_api="blas"):
+                one = fit_seconds(X, y, args.repeats, **params)
+            with no_limit:
+                unlimited = fit_seconds(X, y, args.repeats, **params)
+            print(f"{n_mfs**3:>6}{n_rows:>7}{default:>21.3f}{one:>16.3f}{default / one:>7.2f}{unlimited:>23.3f}")
 
 
 if __name__ == "__main__":

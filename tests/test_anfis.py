@@ -1,14 +1,22 @@
 """Tests of the ANFIS estimator (uavdamp.anfis): gradient, fit quality, step-size rule, snapshots,
-persistence, guards and argument checks."""
+persistence, guards, argument checks, scikit-learn compatibility, subtractive clustering and numerics."""
 
 import itertools
 
 import numpy as np
 import pytest
 import xarray as xr
+from scipy import sparse
 from skfuzzy import gaussmf
+from sklearn.base import clone
+from sklearn.exceptions import NotFittedError
+from sklearn.model_selection import GridSearchCV, KFold, cross_val_score
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import StandardScaler
+from sklearn.utils.estimator_checks import check_estimator
 
-from uavdamp.anfis import ANFIS, loss_and_gradient, update_step_size
+from uavdamp import anfis_init
+from uavdamp.anfis import ANFIS, EXPECTED_FAILED_CHECKS, loss_and_gradient, update_step_size
 
 # any warning not expected with pytest.warns fails the test
 pytestmark = pytest.mark.filterwarnings("error")
@@ -241,10 +249,10 @@ def test_predictions_bounded_far_outside(fitted):
         assert np.isfinite(pred).all()
         assert pred[0] == fitted.predict(edge)[0]  # clamped to the training box
         assert y.min() - 0.5 <= pred[0] <= y.max() + 0.5
-    for bad in (np.nan, np.inf, -np.inf):
-        with pytest.raises(ValueError, match="non-finite"):
+    for bad, word in ((np.nan, "NaN"), (np.inf, "infinity"), (-np.inf, "infinity")):
+        with pytest.raises(ValueError, match=f"Input X contains {word}"):
             fitted.predict(np.array([[10.0, bad, 100.0]]))
-    with pytest.raises(ValueError, match="columns"):
+    with pytest.raises(ValueError, match="X has 2 features, but ANFIS is expecting 3"):
         fitted.predict(np.ones((3, 2)))
 
 
@@ -349,6 +357,10 @@ def test_get_set_params_round_trip():
         (dict(init="kmeans"), "init"),
         (dict(init="fcm"), "n_rules"),
         (dict(init="fcm", n_rules=0), "n_rules"),
+        (dict(init="subtractive", radius=0.0), "radius"),
+        (dict(init="subtractive", radius=1.5), "radius"),
+        (dict(validation_fraction=1.0), "validation_fraction"),
+        (dict(validation_fraction=-0.1), "validation_fraction"),
         (dict(epochs=0), "epochs"),
         (dict(epochs=2.5), "epochs"),
         (dict(error_goal=-1.0), "error_goal"),
@@ -378,16 +390,16 @@ def test_bad_data_raise():
     X_nan = X.copy()
     X_nan[3, 1] = np.nan
     for args, match in [
-        ((X_nan, y), "X contains non-finite"),
-        ((X, y[:-1]), "y has 49"),
-        ((X[:, 0], y), "X must be 2-D"),
+        ((X_nan, y), "Input X contains NaN"),
+        ((X, y[:-1]), r"inconsistent numbers of samples: \[50, 49\]"),
+        ((X[:, 0], y), "Expected 2D array, got 1D array"),
         ((X, y, X), "X_val and y_val"),
-        ((X, y, X[:, :2], y), "X_val has 2 columns"),
-        ((X, y, X, y[:5]), "y_val has 5"),
+        ((X, y, X[:, :2], y), "X has 2 features, but ANFIS is expecting 3"),
+        ((X, y, X, y[:5]), r"inconsistent numbers of samples: \[50, 5\]"),
     ]:
         with pytest.raises(ValueError, match=match):
             model.fit(*args)
-    with pytest.raises(RuntimeError, match="not fitted"):
+    with pytest.raises(NotFittedError, match="not fitted"):
         ANFIS().predict(X)
     assert not hasattr(ANFIS(), "n_rules_")
 
@@ -406,3 +418,138 @@ def test_any_number_of_inputs():
     again = ANFIS.from_dataset(four.to_dataset())
     assert np.array_equal(again.predict(X), four.predict(X))
     assert [c.size for c, _ in again.membership_functions()] == [3, 1, 2, 1]
+
+
+# --------------------------------------------------------------------------------- scikit-learn
+
+
+@pytest.mark.filterwarnings("ignore")  # the checks feed constant and 1-sample inputs on purpose
+@pytest.mark.parametrize(
+    "estimator",
+    [ANFIS(init="subtractive", epochs=20), ANFIS(init="fcm", n_rules=3, epochs=20, validation_fraction=0.2)],
+    ids=["subtractive", "fcm-validation"],
+)
+def test_check_estimator(estimator):
+    """scikit-learn's own estimator checks (a grid init on their 10-feature data is 1024 rules: slow, so the
+    clustering inits run here; the grid init is exercised by every other test)."""
+    # on_skip=None: the one skipped check is the array-API one, which needs SCIPY_ARRAY_API set
+    check_estimator(estimator, expected_failed_checks=EXPECTED_FAILED_CHECKS, on_skip=None)
+
+
+def test_clone_pipeline_cross_val_score():
+    X, y = sample(150, 20)
+    model = ANFIS(epochs=30, n_mfs=[2, 3, 2], **NAMES)
+    copy = clone(model)
+    assert copy.get_params() == model.get_params() and not hasattr(copy, "consequents_")
+    scores = cross_val_score(make_pipeline(StandardScaler(), model), X, y, cv=KFold(3, shuffle=True, random_state=0))
+    assert scores.shape == (3,) and np.all(scores > 0.9)
+
+
+def test_grid_search_over_structure_round_trips(tmp_path):
+    """GridSearchCV over n_mfs and the initialisation returns a fitted best estimator; its NetCDF copy
+    predicts identically."""
+    X, y = sample(200, 21)
+    grid = [
+        {"init": ["grid"], "n_mfs": [1, 2]},
+        {"init": ["subtractive"], "radius": [0.5]},
+        {"init": ["fcm"], "n_rules": [3]},
+    ]
+    search = GridSearchCV(ANFIS(epochs=40, **NAMES), grid, cv=KFold(3, shuffle=True, random_state=0)).fit(X, y)
+    assert len(search.cv_results_["params"]) == 4
+    best = search.best_estimator_
+    assert best.get_params()["init"] == search.best_params_["init"] and hasattr(best, "consequents_")
+    # one MF per input is a single linear rule: the smooth target needs more, so it does not win
+    assert search.best_params_ != {"init": "grid", "n_mfs": 1}
+    path = tmp_path / "best.nc"
+    best.to_dataset().to_netcdf(path)
+    with xr.open_dataset(path) as stored:
+        loaded = ANFIS.from_dataset(stored.load())
+    X_test, _ = sample(300, 22)
+    assert np.array_equal(loaded.predict(X_test), best.predict(X_test))
+
+
+def test_validation_fraction_holds_out_seeded_rows():
+    """validation_fraction: the rows carved out are not trained on, and the kept epoch is their minimum."""
+    X, y = sample(100, 23)
+    model = ANFIS(epochs=60, validation_fraction=0.25, random_state=4).fit(X, y)
+    val = np.zeros(100, dtype=bool)
+    val[np.random.default_rng(4).permutation(100)[:25]] = True
+    assert model.val_rmse_.size == 60 and model.best_epoch_ == np.argmin(model.val_rmse_) + 1
+    rmse = np.sqrt(np.mean((model.predict(X[val]) - y[val]) ** 2))
+    assert rmse == pytest.approx(model.val_rmse_.min(), rel=1e-9)
+    explicit = ANFIS(epochs=60).fit(X[~val], y[~val], X[val], y[val])
+    assert np.array_equal(explicit.predict(X), model.predict(X))
+
+
+# --------------------------------------------------------------------------------- numerics
+
+
+def test_shifted_target_fits_as_well():
+    """1e12 + f(x) fits as well as f(x): the output is centred and scaled inside fit."""
+    X, y = sample(300, 24)
+    plain = ANFIS(epochs=100).fit(X, y)
+    shifted = ANFIS(epochs=100).fit(X, 1e12 + y)
+    # 1e12 has an ulp of 1.2e-4: that is the precision left for f(x) in the shifted data itself
+    assert abs(shifted.train_rmse_.min() - plain.train_rmse_.min()) < 1e-3
+    X_test, _ = sample(200, 25)
+    np.testing.assert_allclose(shifted.predict(X_test) - 1e12, plain.predict(X_test), rtol=0, atol=2e-3)
+
+
+def test_huge_targets_are_scaled_and_unrepresentable_refused():
+    X, y = sample(200, 26)
+    plain = ANFIS(epochs=60).fit(X, y)
+    huge = ANFIS(epochs=60).fit(X, 1e130 * y)
+    assert not np.array_equal(huge.centres_, huge.initial_centres_)  # the premise did move
+    np.testing.assert_allclose(huge.centres_, plain.centres_, rtol=1e-7)
+    np.testing.assert_allclose(huge.predict(X) / 1e130, plain.predict(X), rtol=1e-7)
+    y_wide = np.zeros(200)
+    y_wide[:2] = 1e308, -1e308  # each finite, their difference is not
+    with pytest.raises(ValueError, match="range is not a finite float64"):
+        ANFIS(epochs=2).fit(X, y_wide)
+
+
+def test_complex_and_sparse_input_refused():
+    X, y = sample(50, 27)
+    with pytest.raises(ValueError, match="Complex data not supported"):
+        ANFIS(epochs=2).fit(X + 1j, y)
+    with pytest.raises(TypeError, match="Sparse data was passed"):
+        ANFIS(epochs=2).fit(sparse.csr_matrix(X), y)
+
+
+# --------------------------------------------------------------------------------- subtractive clustering
+
+
+def test_subtractive_clustering_finds_known_centres():
+    """Three tight blobs of equal size in the unit square: three centres, one on each blob."""
+    rng = np.random.default_rng(28)
+    truth = np.array([[0.2, 0.2], [0.8, 0.3], [0.5, 0.85]])
+    points = np.vstack([c + 0.01 * rng.standard_normal((40, 2)) for c in truth])
+    centres = anfis_init.subtractive_centres(points, radius=0.5)
+    assert centres.shape == (3, 2)
+    nearest = np.linalg.norm(centres[:, None, :] - truth[None, :, :], axis=2)
+    assert sorted(np.argmin(nearest, axis=1)) == [0, 1, 2]
+    assert nearest.min(axis=1).max() < 0.03
+
+
+@pytest.mark.parametrize("distance, expected", [(0.3, 1), (0.45, 2), (0.9, 2)])
+def test_subtractive_gray_zone_rule(distance, expected):
+    """Chiu's accept/reject rule, closed form for two stacks of identical points (20 at a, 8 at b):
+    P_a = 20 + 8 e, P_b = 8 + 20 e with e = exp(-4 D^2 / r^2); after a, P_b' = P_b - P_a exp(-4 D^2 / (1.25 r)^2).
+    b is accepted if P_b' / P_a > 0.5, refused if < 0.15, else accepted iff D / r + P_b' / P_a >= 1."""
+    r = 0.5
+    points = np.vstack([np.zeros((20, 2)), np.tile([distance, 0.0], (8, 1))])
+    e = np.exp(-4 * distance**2 / r**2)
+    ratio = (8 + 20 * e - (20 + 8 * e) * np.exp(-4 * distance**2 / (1.25 * r) ** 2)) / (20 + 8 * e)
+    accept = ratio > 0.5 or (ratio >= 0.15 and distance / r + ratio >= 1)
+    assert (2 if accept else 1) == expected  # the closed form agrees with the case's label
+    assert len(anfis_init.subtractive_centres(points, r)) == expected
+
+
+def test_subtractive_init_sigmas_and_rule_count():
+    X, y = sample(300, 29)
+    model = ANFIS(init="subtractive", radius=0.5, epochs=1, **NAMES).fit(X, y)
+    points = np.column_stack([(X - X.min(axis=0)) / np.ptp(X, axis=0), (y - y.min()) / np.ptp(y)])
+    assert model.n_rules_ == len(anfis_init.subtractive_centres(points, 0.5))
+    # genfis2: sigma = radius * range / sqrt(8) for every MF of an input
+    for (_, sigmas), span in zip(model.membership_functions(initial=True), np.ptp(X, axis=0), strict=True):
+        np.testing.assert_allclose(sigmas, 0.5 * span / np.sqrt(8))

@@ -162,7 +162,10 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     workdir = copy_workflow(tmp_path)
     chunks = workdir / "reports/reference_table/chunks"
 
-    monkeypatch.setenv("UAVDAMP_FAIL_CHUNK", bad)  # the chunk script raises for this scatteritem
+    # the chunk's job raises (tests/slurm/fail_chunk/sitecustomize.py, loaded by every job's Python)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(filter(None, [str(ROOT / "tests/slurm/fail_chunk"),
+                                                                   os.environ.get("PYTHONPATH")])))
+    monkeypatch.setenv("UAVDAMP_TEST_FAIL_CHUNK", bad)
     result, submitted, wall = run_on_slurm(workdir, slurm_cluster)
     print(f"[slurm] run with chunk {bad} failing: {wall:.1f} s")
     output = result.stdout + result.stderr
@@ -178,7 +181,7 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     assert not (workdir / TARGET).exists()
     kept = {item: (chunks / f"{item}.nc").stat().st_mtime_ns for item in good}
 
-    monkeypatch.delenv("UAVDAMP_FAIL_CHUNK")
+    monkeypatch.delenv("UAVDAMP_TEST_FAIL_CHUNK")
     result, submitted, wall = run_on_slurm(workdir, slurm_cluster)
     print(f"[slurm] rerun (resume): {wall:.1f} s")
     output = result.stdout + result.stderr

@@ -1,4 +1,4 @@
-"""Learning the reference table with ANFIS: samples, the seeded train/check split, the training record.
+"""Learning the reference table: samples, the seeded train/check split, model selection, baselines, the record.
 
 Inputs [f_y (Hz), f_z (Hz), K (N/m)], output the optimal damping C (N s/m) of the reference table
 (paper: an 80/20 split, the 20 % checking generalisation). Cells whose grid points all failed
@@ -8,20 +8,29 @@ K and C may be learnt as log10 values (config `log_stiffness`, `log_damping`): t
 logarithmically over decades, and a first-order rule linear in K or C cannot follow that; the
 rules then read "... AND log10_K is MF1 ... THEN log10_C = ...". `TableModel` applies the
 transforms, so callers always pass K in N/m and get C in N s/m.
+
+`train` keeps the checking split out of everything but the final report: the ANFIS structure is
+chosen by k-fold cross-validation on the training rows (`uavdamp.model_selection`), the epoch on a
+validation part of the training rows (`epoch_selection: validation`), and the checking rows are
+predicted once, by the ANFIS and by the baselines (`uavdamp.baselines`) fitted on the same
+training rows and targets. `epoch_selection: checking` is MATLAB's anfis with checking data
+(chkFIS): the epoch is chosen on the checking rows, whose error is then optimistic.
 """
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import xarray as xr
 
+from uavdamp import baselines, model_selection
 from uavdamp.anfis import ANFIS
 
 INPUTS = ("freq_y", "freq_z", "stiffness")
-INPUT_NAMES = ("f_y", "f_z", "K")
-INPUT_UNITS = ("Hz", "Hz", "N/m")
-MODEL_OPTIONS = ("n_mfs", "init", "n_rules", "epochs", "error_goal", "step_size", "step_increase",
-                 "step_decrease", "min_sigma_frac", "ridge")
+MODEL_OPTIONS = ("init", "n_mfs", "n_rules", "radius", "epochs", "error_goal", "step_size", "step_increase",
+                 "step_decrease", "min_sigma_frac", "ridge", "validation_fraction")
+EPOCH_SELECTION = ("validation", "checking")
 
 
 def table_samples(table: xr.Dataset, target: str = "damping_opt") -> tuple[np.ndarray, np.ndarray, int]:
@@ -47,36 +56,56 @@ def split(n: int, train_fraction: float, seed: int) -> np.ndarray:
 
 
 class TableModel:
-    """An ANFIS on (optionally log10) K and C: predict([[f_y Hz, f_z Hz, K N/m]]) -> C in N s/m."""
+    """A regressor on (optionally log10) K and C: predict([[f_y Hz, f_z Hz, K N/m]]) -> C in N s/m.
 
-    def __init__(self, anfis: ANFIS, log_stiffness: bool, log_damping: bool):
-        self.anfis, self.log_stiffness, self.log_damping = anfis, bool(log_stiffness), bool(log_damping)
+    ``estimator`` is an ANFIS (``anfis``, the study's model) or any scikit-learn regressor.
+    """
+
+    def __init__(self, estimator, log_stiffness: bool, log_damping: bool):
+        self.estimator, self.log_stiffness, self.log_damping = estimator, bool(log_stiffness), bool(log_damping)
+
+    @property
+    def anfis(self) -> ANFIS:
+        return self.estimator
 
     @classmethod
-    def unfitted(cls, options: dict) -> "TableModel":
-        """From the config's `anfis` section."""
+    def unfitted(cls, options: dict, estimator=None) -> TableModel:
+        """From the config's `anfis` section: an ANFIS (or ``estimator``) on the configured transforms."""
         log_k, log_c = bool(options["log_stiffness"]), bool(options["log_damping"])
-        kwargs = {name: options[name] for name in MODEL_OPTIONS if name in options}
-        anfis = ANFIS(**kwargs, random_state=int(options["seed"]),
-                      input_names=["f_y", "f_z", "log10_K" if log_k else "K"],
-                      input_units=["Hz", "Hz", "1" if log_k else "N/m"],
-                      output_name="log10_C" if log_c else "C", output_units="1" if log_c else "N s/m")
-        return cls(anfis, log_k, log_c)
+        if estimator is None:
+            kwargs = {name: options[name] for name in MODEL_OPTIONS if name in options}
+            estimator = ANFIS(**kwargs, random_state=int(options["seed"]),
+                              input_names=["f_y", "f_z", "log10_K" if log_k else "K"],
+                              input_units=["Hz", "Hz", "1" if log_k else "N/m"],
+                              output_name="log10_C" if log_c else "C", output_units="1" if log_c else "N s/m")
+        return cls(estimator, log_k, log_c)
 
     def inputs(self, X) -> np.ndarray:
+        """Rows [f_y Hz, f_z Hz, K N/m] as the learnt inputs (K -> log10 K if configured)."""
         X = np.array(X, dtype=float, ndmin=2)
         if self.log_stiffness:
             X[:, 2] = np.log10(X[:, 2])
         return X
 
-    def fit(self, X, y, X_val, y_val) -> "TableModel":
-        out = np.log10 if self.log_damping else np.asarray
-        self.anfis.fit(self.inputs(X), out(y), self.inputs(X_val), out(y_val))
+    def target(self, damping) -> np.ndarray:
+        """C (N s/m) as the learnt target (log10 C if configured)."""
+        return np.log10(damping) if self.log_damping else np.asarray(damping, float)
+
+    def fit(self, X, y, X_val=None, y_val=None) -> TableModel:
+        """Fit on rows X and C; X_val, y_val (ANFIS only) choose the epoch instead of its validation_fraction."""
+        if X_val is None:
+            self.estimator.fit(self.inputs(X), self.target(y))
+        else:
+            self.estimator.fit(self.inputs(X), self.target(y), self.inputs(X_val), self.target(y_val))
         return self
+
+    def predict_target(self, X) -> np.ndarray:
+        """The learnt target (C or log10 C) for rows [f_y Hz, f_z Hz, K N/m]."""
+        return self.estimator.predict(self.inputs(X))
 
     def predict(self, X) -> np.ndarray:
         """C, N s/m, for rows [f_y Hz, f_z Hz, K N/m]."""
-        raw = self.anfis.predict(self.inputs(X))
+        raw = self.predict_target(X)
         return 10.0**raw if self.log_damping else raw
 
     def rules_text(self) -> str:
@@ -91,7 +120,7 @@ class TableModel:
         return ds
 
     @classmethod
-    def from_dataset(cls, ds: xr.Dataset) -> "TableModel":
+    def from_dataset(cls, ds: xr.Dataset) -> TableModel:
         return cls(ANFIS.from_dataset(ds), bool(ds.attrs["log_stiffness"]), bool(ds.attrs["log_damping"]))
 
 
@@ -109,55 +138,153 @@ def regret(grid: xr.Dataset, X: np.ndarray, damping: np.ndarray) -> np.ndarray:
     return out
 
 
-def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict) -> tuple[TableModel, xr.Dataset]:
-    """Fit on the training split, keep the best-checking epoch; return the model and its record.
 
-    With the `grid` (criterion over C) the record also holds each cell's regret: the criterion
-    at the predicted C over the best criterion (1 = as good as the table's optimum).
+
+def _check_options(options: dict) -> tuple[str, list[dict], int, list[str]]:
+    """(epoch selection, candidates, folds, baseline names) from the `anfis` section, checked."""
+    mode = options["epoch_selection"]
+    if mode not in EPOCH_SELECTION:
+        raise ValueError(f"anfis.epoch_selection: must be one of {', '.join(EPOCH_SELECTION)}, got {mode!r}")
+    if mode == "validation" and not options.get("validation_fraction", 0) > 0:
+        raise ValueError("anfis.validation_fraction: must be > 0 with epoch_selection 'validation'")
+    selection = options["selection"]
+    candidates = model_selection.check_candidates(selection["candidates"])
+    names = list(options["baselines"])
+    for name in names:
+        if name not in baselines.BASELINES:
+            choices = ", ".join(baselines.BASELINES)
+            raise ValueError(f"anfis.baselines: unknown baseline {name!r}; choose from {choices}")
+    return mode, candidates, int(selection["folds"]), names
+
+
+def _fit_models(X, y, is_train, options, mode, candidates, folds, names):
+    """The cross-validated ANFIS and the baselines, fitted on the training rows; CV record; fit times (s)."""
+    seed = int(options["seed"])
+    anfis = TableModel.unfitted(options)
+    Xt, yt = anfis.inputs(X[is_train]), anfis.target(y[is_train])
+    best, cv, cv_times = model_selection.cross_validate(anfis.estimator, Xt, yt, candidates, folds, seed)
+    anfis.estimator.set_params(**best)
+    times = {f"cv {model_selection.label(c)} (mean per fold)": t for c, t in zip(candidates, cv_times, strict=True)}
+    models = {"anfis": anfis}
+    for name in names:
+        models[name] = TableModel.unfitted(options, baselines.make(name, X.shape[1], seed))
+    for name, model in models.items():
+        start = time.perf_counter()
+        if name == "anfis" and mode == "checking":  # MATLAB chkFIS: the epoch chosen on the checking rows
+            model.fit(X[is_train], y[is_train], X[~is_train], y[~is_train])
+        else:
+            model.fit(X[is_train], y[is_train])
+        times[name] = time.perf_counter() - start
+    return models, cv, times
+
+
+def _model_scores(models: dict, X, y, is_train, grid) -> xr.Dataset:
+    """Per model: checking errors in the learnt target and in C, and regret; predictions per sample."""
+    check = ~is_train
+    anfis = models["anfis"]
+    y_learnt, units = anfis.target(y), anfis.anfis.output_units
+    target, damping, cost = [], [], []
+    for model in models.values():
+        target.append(model.predict_target(X))
+        damping.append(10.0**target[-1] if model.log_damping else target[-1])
+        if grid is not None:
+            cost.append(regret(grid, X, damping[-1]))
+    target, damping = np.array(target), np.array(damping)
+    out = anfis.anfis.output_name
+    scores = {
+        "check_rmse_target": (np.sqrt(np.mean((target[:, check] - y_learnt[check]) ** 2, axis=1)),
+                              units, f"checking RMSE of the learnt target {out}"),
+        "check_rmse_damping": (np.sqrt(np.mean((damping[:, check] - y[check]) ** 2, axis=1)),
+                               "N s m-1", "checking RMSE of the damping C"),
+        "check_median_relative_error": (np.median(np.abs(damping[:, check] - y[check]) / np.abs(y[check]), axis=1),
+                                        "1", "checking median of |C predicted - C reference| / C reference"),
+        "train_rmse_target": (np.sqrt(np.mean((target[:, is_train] - y_learnt[is_train]) ** 2, axis=1)),
+                              units, f"training RMSE of the learnt target {out}"),
+    }
+    ds = xr.Dataset({k: ("model", v, {"units": u, "long_name": n}) for k, (v, u, n) in scores.items()})
+    ds["damping_predicted_by_model"] = (("model", "sample"), damping,
+                                        {"units": "N s m-1", "long_name": "C predicted by each model"})
+    if grid is not None:
+        cost = np.array(cost)
+        ds["regret_by_model"] = (("model", "sample"), cost,
+                                 {"units": "1", "long_name": "criterion at the model's damping / optimal criterion"})
+        ds["check_regret_mean"] = ("model", cost[:, check].mean(axis=1),
+                                   {"units": "1", "long_name": "checking mean of the regret"})
+        ds["check_regret_max"] = ("model", cost[:, check].max(axis=1),
+                                  {"units": "1", "long_name": "checking maximum of the regret"})
+    names = list(models)
+    return ds.assign_coords(
+        model=("model", np.array(names, dtype=object), {"units": "1", "long_name": "model name"}),
+        model_description=("model", np.array([baselines.LONG_NAMES[n] for n in names], dtype=object),
+                           {"units": "1", "long_name": "what the model is"}),
+    )
+
+
+def _epoch_record(fitted: ANFIS, mode: str, validation_fraction: float) -> xr.Dataset:
+    """Training and epoch-selection RMSE and step size per epoch of the chosen ANFIS."""
+    learnt = {"units": fitted.output_units}
+    rows = ("the checking rows (MATLAB chkFIS: optimistic checking error)" if mode == "checking"
+            else f"a validation {validation_fraction:.0%} of the training rows")
+    validation = fitted.val_rmse_ if fitted.val_rmse_.size else np.full(fitted.train_rmse_.shape, np.nan)
+    return xr.Dataset(
+        {
+            "train_rmse": ("epoch", fitted.train_rmse_,
+                           {**learnt, "long_name": f"training RMSE of {fitted.output_name}"}),
+            "validation_rmse": ("epoch", validation,
+                                {**learnt, "long_name": f"RMSE of {fitted.output_name} on {rows} (choose the epoch)"}),
+            "step_size": ("epoch", fitted.step_sizes_,
+                          {"units": "1", "long_name": "premise step size (fraction of input range)"}),
+        },
+        coords={"epoch": ("epoch", np.arange(1, fitted.train_rmse_.size + 1),
+                          {"units": "1", "long_name": "training epoch"})},
+    )
+
+
+def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict) -> tuple[TableModel, xr.Dataset, dict]:
+    """Select, fit and check the ANFIS and the baselines; return the ANFIS, the record, fit times (s).
+
+    With the `grid` (criterion over C) the record also holds each cell's regret per model: the
+    criterion at the predicted C over the best criterion (1 = as good as the table's optimum).
+    The fit times are apart from the record, which is identical on two runs.
     """
+    mode, candidates, folds, names = _check_options(options)
     X, y, dropped = table_samples(table)
     is_train = split(y.size, float(options["train_fraction"]), int(options["seed"]))
-    model = TableModel.unfitted(options).fit(X[is_train], y[is_train], X[~is_train], y[~is_train])
-    predicted = model.predict(X)
-    fitted = model.anfis
-    epochs = np.arange(1, len(fitted.train_rmse_) + 1)
-    unit = {"units": "N s m-1"}
-    learnt = {"units": fitted.output_units}
-
-    def rmse(mask):
-        return float(np.sqrt(np.mean((predicted[mask] - y[mask]) ** 2)))
-
-    record = xr.Dataset(
+    models, cv, times = _fit_models(X, y, is_train, options, mode, candidates, folds, names)
+    model = models["anfis"]
+    scores = _model_scores(models, X, y, is_train, grid)
+    predicted = scores.damping_predicted_by_model.sel(model="anfis").values
+    samples = xr.Dataset(
         {
-            "train_rmse": ("epoch", fitted.train_rmse_, {**learnt, "long_name": f"training RMSE of {fitted.output_name}"}),
-            "check_rmse": ("epoch", fitted.val_rmse_, {**learnt, "long_name": f"checking (held-out) RMSE of {fitted.output_name}"}),
-            "step_size": ("epoch", fitted.step_sizes_, {"units": "1", "long_name": "premise step size (fraction of input range)"}),
-            "damping_reference": ("sample", y, {**unit, "long_name": "optimal C in the reference table"}),
-            "damping_predicted": ("sample", predicted, {**unit, "long_name": "C predicted by the trained ANFIS"}),
-            "is_training": ("sample", is_train.astype(np.int8), {"units": "1", "long_name": "1: training split, 0: checking split"}),
+            "damping_reference": ("sample", y, {"units": "N s m-1", "long_name": "optimal C in the reference table"}),
+            "damping_predicted": ("sample", predicted, {"units": "N s m-1", "long_name": "C predicted by the ANFIS"}),
+            "is_training": ("sample", is_train.astype(np.int8),
+                            {"units": "1", "long_name": "1: training split, 0: checking split"}),
             **{name: ("sample", X[:, j], {**table[name].attrs}) for j, name in enumerate(INPUTS)},
         },
-        coords={
-            "epoch": ("epoch", epochs, {"units": "1", "long_name": "training epoch"}),
-            "sample": ("sample", np.arange(y.size), {"units": "1", "long_name": "reference table cell"}),
-        },
-        attrs={
-            "best_epoch": int(fitted.best_epoch_),
-            "n_rules": int(fitted.n_rules_),
-            "n_samples": int(y.size),
-            "n_training": int(is_train.sum()),
-            "n_dropped_nan": dropped,
-            "train_rmse_final": rmse(is_train),
-            "check_rmse_final": rmse(~is_train),
-            "check_mean_relative_error": float(np.mean(np.abs(predicted[~is_train] - y[~is_train])
-                                                       / np.maximum(np.abs(y[~is_train]), 1e-12))),
-            "check_median_relative_error": float(np.median(np.abs(predicted[~is_train] - y[~is_train])
-                                                           / np.maximum(np.abs(y[~is_train]), 1e-12))),
-        },
+        coords={"sample": ("sample", np.arange(y.size), {"units": "1", "long_name": "reference table cell"})},
     )
     if grid is not None:
-        cost = regret(grid, X, predicted)
-        record["regret"] = ("sample", cost, {"units": "1", "long_name": "criterion at the ANFIS damping / optimal criterion"})
-        record.attrs["check_regret_mean"] = float(np.mean(cost[~is_train]))
-        record.attrs["check_regret_max"] = float(np.max(cost[~is_train]))
-    return model, record
+        samples["regret"] = ("sample", scores.regret_by_model.sel(model="anfis").values,
+                             {"units": "1", "long_name": "criterion at the ANFIS damping / optimal criterion"})
+    record = xr.merge([_epoch_record(model.anfis, mode, options.get("validation_fraction", 0)), samples,
+                       scores, cv], combine_attrs="override")
+    anfis = scores.sel(model="anfis")
+    rel = np.abs(predicted - y) / np.abs(y)
+    record.attrs = {
+        **cv.attrs,
+        "epoch_selection": mode,
+        "best_epoch": int(model.anfis.best_epoch_),
+        "n_rules": int(model.anfis.n_rules_),
+        "n_samples": int(y.size),
+        "n_training": int(is_train.sum()),
+        "n_dropped_nan": dropped,
+        "train_rmse_final": float(np.sqrt(np.mean((predicted[is_train] - y[is_train]) ** 2))),
+        "check_rmse_final": float(anfis.check_rmse_damping),
+        "check_mean_relative_error": float(np.mean(rel[~is_train])),
+        "check_median_relative_error": float(anfis.check_median_relative_error),
+    }
+    if grid is not None:
+        record.attrs["check_regret_mean"] = float(anfis.check_regret_mean)
+        record.attrs["check_regret_max"] = float(anfis.check_regret_max)
+    return model, record, times

@@ -16,6 +16,11 @@ rule anfis:
             caption="../report/anfis_training.rst",
             category="ANFIS",
         ),
+        selection=report(
+            "reports/figures/anfis_selection.png",
+            caption="../report/anfis_selection.rst",
+            category="ANFIS",
+        ),
     log:
         "reports/logs/anfis.log",
     benchmark:

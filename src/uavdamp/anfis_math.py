@@ -1,0 +1,116 @@
+"""ANFIS arithmetic shared by fit, predict and the gradient check (see ``uavdamp.anfis`` for the model).
+
+Arrays are stored samples-last: X1T is (d + 1, n) with a last row of ones, Z (M, n) per MF, firing
+strengths w and rule outputs f (R, n); reductions over rules are then fast.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.linalg
+
+ILL_CONDITIONED = 1e-10  # switch to SVD when the Cholesky pivots suggest cond(A^T A) above 1e10
+LSTSQ_RCOND = 1e-10  # singular values below this fraction of the largest are dropped
+
+
+def _incidence(rule_mf: np.ndarray, n_mf_total: int) -> np.ndarray:
+    """(rules, MFs) 0/1 matrix: entry (r, m) is 1 when rule r uses membership function m."""
+    inc = np.zeros((rule_mf.shape[0], n_mf_total))
+    np.put_along_axis(inc, rule_mf, 1.0, axis=1)
+    return inc
+
+
+def _with_ones_row(X: np.ndarray) -> np.ndarray:
+    """X (n, d) as a C-contiguous (d + 1, n) array with a last row of ones."""
+    out = np.ones((X.shape[1] + 1, X.shape[0]))
+    out[:-1] = X.T
+    return out
+
+
+def _firing(XT: np.ndarray, centres, sigmas, mf_input, incidence) -> tuple[np.ndarray, np.ndarray]:
+    """Standardised distances Z = (x - c) / sigma (M, n) and normalised firing strengths (R, n).
+
+    Arrays are stored samples-last (XT is (d, n)): reductions over rules are then fast.
+    """
+    Z = (XT[mf_input] - centres[:, None]) / sigmas[:, None]
+    dist = incidence @ (Z * Z)  # -2 log w_r
+    w = np.exp(-0.5 * (dist - dist.min(axis=0)))
+    w /= w.sum(axis=0)
+    return Z, w
+
+
+def _premise_gradient(Z, w, f, y_hat, err, sigmas, incidence) -> tuple[np.ndarray, np.ndarray]:
+    """dE/dc and dE/dsigma per MF for E = sum(err^2), err = y - y_hat, consequents fixed.
+
+    d y_hat / d log w_r = w_r (f_r - y_hat); d log mu / dc = Z / sigma; d log mu / dsigma = Z^2 / sigma.
+    Shapes: Z (M, n), w and f (R, n), y_hat and err (n,).
+    """
+    dE_dlogw = (-2.0 * err) * w * (f - y_hat)
+    HZ = (incidence.T @ dE_dlogw) * Z
+    return HZ.sum(axis=1) / sigmas, (HZ * Z).sum(axis=1) / sigmas
+
+
+def loss_and_gradient(X, y, centres, sigmas, mf_input, rule_mf, consequents) -> tuple[float, np.ndarray, np.ndarray]:
+    """Training loss and its analytic gradient with respect to the premise parameters.
+
+    X (n, d) and y (n,) in any consistent units; centres, sigmas (M,) with mf_input (M,) the input
+    index of each MF; rule_mf (R, d) the MF index used by each rule for each input; consequents
+    (R, d + 1), constant last (held fixed). Returns E = sum((y - y_hat)^2) and dE/dcentres,
+    dE/dsigmas, each (M,). No clamping or scaling: this is the raw model ``fit`` differentiates.
+    """
+    X1T = _with_ones_row(np.asarray(X, float))
+    y = np.asarray(y, float)
+    centres, sigmas = np.asarray(centres, float), np.asarray(sigmas, float)
+    inc = _incidence(np.asarray(rule_mf, int), centres.size)
+    Z, w = _firing(X1T[:-1], centres, sigmas, np.asarray(mf_input, int), inc)
+    f = np.asarray(consequents, float) @ X1T
+    y_hat = (w * f).sum(axis=0)
+    err = y - y_hat
+    g_c, g_s = _premise_gradient(Z, w, f, y_hat, err, sigmas, inc)
+    return float(err @ err), g_c, g_s
+
+
+def _solve_consequents(w: np.ndarray, X1T: np.ndarray, y: np.ndarray, ridge: float) -> np.ndarray:
+    """Least-squares consequents (R, d + 1) for normalised firing strengths w (R, n), X1T (d + 1, n).
+
+    Cholesky on the normal equations (plus ``ridge`` * mean(diag)); when that fails, its pivots
+    show a condition number above 1 / ILL_CONDITIONED, or there are more unknowns than rows, the
+    truncated-SVD solution instead.
+    """
+    n_rules, n = w.shape
+    AT = (w[:, None, :] * X1T[None, :, :]).reshape(-1, n)
+    if AT.shape[0] > n:  # more unknowns than rows: A^T A is singular (and needlessly large)
+        return np.linalg.lstsq(AT.T, y, rcond=LSTSQ_RCOND)[0].reshape(n_rules, X1T.shape[0])
+    gram = AT @ AT.T
+    gram.flat[:: gram.shape[0] + 1] += ridge * np.trace(gram) / gram.shape[0]
+    factor, p, info = scipy.linalg.lapack.dposv(gram, AT @ y)
+    pivots = np.abs(np.diag(factor))
+    if info != 0 or pivots.min() ** 2 < ILL_CONDITIONED * pivots.max() ** 2:
+        p = np.linalg.lstsq(AT.T, y, rcond=LSTSQ_RCOND)[0]
+    return p.reshape(n_rules, X1T.shape[0])
+
+
+def update_step_size(
+    errors: Sequence[float], step: float, last_change: int, increase: float = 1.1, decrease: float = 0.9
+) -> tuple[float, int]:
+    """MATLAB anfis step-size rule, applied after each epoch.
+
+    ``errors`` are the training errors so far (one per epoch, index k = len - 1 is the newest);
+    ``last_change`` is the index at which the step last changed (0 at the start). Looking at the
+    last five errors, all at or after ``last_change``: four consecutive decreases multiply the step
+    by ``increase``; two consecutive alternations (up, down, up, down) multiply it by ``decrease``.
+    Returns the new step and the new ``last_change``.
+    """
+    k = len(errors) - 1
+    if k - last_change < 4:
+        return step, last_change
+    e = [float(v) for v in errors[k - 4 :]]
+    up = [b > a for a, b in zip(e[:-1], e[1:], strict=True)]
+    down = [b < a for a, b in zip(e[:-1], e[1:], strict=True)]
+    if all(down):
+        return step * increase, k
+    if up[0] and down[1] and up[2] and down[3]:
+        return step * decrease, k
+    return step, last_change
