@@ -37,6 +37,10 @@ BAD = {
     "early-window-after-run": ({"study": {"early_s": 3.0}}, "study.early_s: (3.0 s) must lie inside study.duration_s"),
     "unknown-strategy": ({"study": {"strategies": ["passive", "telepathy"]}},
                          "'telepathy' is not one of ['rigid', 'passive', 'optimal_passive', 'anfis', 'skyhook']"),
+    "grid-over-budget": ({"reference_table": {"freq_y_hz": {"num": 1000}, "freq_z_hz": {"num": 1000},
+                                              "damping": {"num": 1000}}},
+                         "budget.max_cpu_hours: the run is estimated at 55.6 CPU hours (grid 2,000,000,000 points"),
+    "budget-not-positive": ({"budget": {"max_cpu_hours": 0.0}}, "budget.max_cpu_hours: must be > 0, got 0.0"),
     "figure-case-unknown": ({"study": {"figures": {"case_1": "case9"}}}, "study.figures.case_1: 'case9' is not a case"),
 }
 
@@ -91,3 +95,12 @@ def test_snakemake_refuses_before_any_job(workdir, case):
 @pytest.mark.parametrize("name", ["config.yaml", "quick.yaml"])
 def test_shipped_configs_pass_the_checks(name):
     _validate_and_check(load_config(name))
+
+
+def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):
+    """A dry run shows the counts and the CPU estimate: 3 x 3 x 2 x 4 grid points, 3 helicopter runs of 4 s and the
+    sensitivity runs (8 of 2 s), 2 cases x 2 K x (5 strategies + 5 candidates + 20 refinements) study runs."""
+    work = copy_workflow(tmp_path)
+    result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert "uavdamp plan: 72 grid points, 28 simulated s of helicopter, 120 study runs: about" in result.stderr

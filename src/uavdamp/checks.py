@@ -6,13 +6,15 @@ check each section: every ValueError names the key and the rule it breaks.
 
 from __future__ import annotations
 
+from uavdamp import budget
 from uavdamp.config import require
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.params import is_multiple
 
 
-def check_config(config: dict) -> None:
-    """Raise ValueError naming the first key that breaks a rule across sections (see the module docstring)."""
+def check_config(config: dict) -> dict:
+    """Raise ValueError naming the first key that breaks a rule across sections (see the module docstring) or a
+    run estimated above the budget; return the estimate (`uavdamp.budget`)."""
     from uavdamp import grid, helicopter
     from uavdamp.study import StudyOptions
 
@@ -27,6 +29,8 @@ def check_config(config: dict) -> None:
                                         if k not in ("cases", "duration_s", "highpass_hz", "figures")})
     _check_frequencies(config, platform, spec)
     _check_study(study, options, platform)
+    verify = config["reference_table"].get("verify", {}).get("n_points", 0)
+    return budget.check(config, spec.size, verify)
 
 
 def _check_frequencies(config: dict, platform: PlatformParams, spec) -> None:

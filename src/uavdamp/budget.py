@@ -1,0 +1,75 @@
+"""What a config will cost before anything runs: grid points, simulated seconds and an estimate of CPU time.
+
+The constants are measured on the 2-core development machine (config `budget`, with their source in the config
+comments) and are estimates, not guarantees: they scale the counts, they do not model a machine.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from uavdamp.config import load, require, setting
+
+
+@dataclass(frozen=True)
+class Budget:
+    """The config section ``budget``."""
+
+    max_cpu_hours: float = setting()  # h: an estimate above this refuses the run
+    seconds_per_point_linear: float = setting("seconds_per_point_linear_s")  # s of CPU per grid point
+    seconds_per_point_exudyn: float = setting("seconds_per_point_exudyn_s")  # s of CPU per 5 s grid point
+    helicopter_cpu_per_simulated_s: float = setting()  # s of CPU per simulated s of the rotorcraft
+    platform_cpu_per_simulated_s: float = setting()  # s of CPU per simulated s of the Exudyn platform
+
+    @classmethod
+    def from_config(cls, cfg) -> Budget:
+        return load(cls, cfg, "budget")
+
+    def validate(self) -> None:
+        for name in ("max_cpu_hours", "helicopter_cpu_per_simulated_s", "platform_cpu_per_simulated_s"):
+            require(getattr(self, name) > 0, f"budget.{name}", f"must be > 0, got {getattr(self, name)}")
+
+
+def estimate(config: dict, grid_points: int, verify_points: int) -> dict[str, float]:
+    """Counts and estimated CPU seconds of the heavy stages of `config` (the grid's size passed in)."""
+    b = Budget.from_config(config["budget"])
+    heli, study, platform = config["helicopter"], config["study"], config["platform"]
+    runs_s = 3 * heli["solver"]["duration"]  # balanced, imbalanced, both rotors
+    sensitivity = heli["sensitivity"]
+    n_sensitivity = 1 + sum(len(v) for v in sensitivity["parameters"].values())
+    heli_s = runs_s + n_sensitivity * sensitivity["duration"]
+    per_point = b.seconds_per_point_linear if platform["backend"] == "linear" else b.seconds_per_point_exudyn
+    grid_duration = config["reference_table"]["duration"]
+    # study: per case and K, every strategy and the best-constant search (its candidates, up to 20 refinements);
+    # an upper bound: the isolated runs on the linear plant cost less than this Exudyn rate
+    study_runs = len(study["cases"]) * len(study["stiffness_n_m"]) * (
+        len(study["strategies"]) + study["optimal_candidates"] + 20)
+    cpu = {
+        "grid": grid_points * per_point,
+        "verification": verify_points * b.seconds_per_point_exudyn * grid_duration / 5.0,
+        "helicopter": heli_s * b.helicopter_cpu_per_simulated_s,
+        "study": study_runs * study["duration_s"] * b.platform_cpu_per_simulated_s,
+    }
+    return {"grid_points": grid_points, "helicopter_simulated_s": heli_s, "study_runs": study_runs,
+            **{f"cpu_s_{k}": v for k, v in cpu.items()}, "cpu_s": sum(cpu.values()),
+            "max_cpu_s": 3600.0 * b.max_cpu_hours}
+
+
+def check(config: dict, grid_points: int, verify_points: int) -> dict[str, float]:
+    """The estimate; ValueError naming budget.max_cpu_hours and the numbers when it is above the budget."""
+    e = estimate(config, grid_points, verify_points)
+    if e["cpu_s"] > e["max_cpu_s"]:
+        raise ValueError(
+            f"budget.max_cpu_hours: the run is estimated at {e['cpu_s'] / 3600:.3g} CPU hours "
+            f"(grid {e['grid_points']:,} points: {e['cpu_s_grid'] / 3600:.3g} h; helicopter "
+            f"{e['helicopter_simulated_s']:g} simulated s: {e['cpu_s_helicopter'] / 3600:.3g} h; study "
+            f"{e['study_runs']} runs: {e['cpu_s_study'] / 3600:.3g} h), above the budget of "
+            f"{e['max_cpu_s'] / 3600:g} h. To run it anyway, raise budget.max_cpu_hours in a config file "
+            "passed with --configfile")
+    return e
+
+
+def summary(e: dict[str, float]) -> str:
+    return (f"uavdamp plan: {e['grid_points']:,} grid points, {e['helicopter_simulated_s']:g} simulated s of "
+            f"helicopter, {e['study_runs']} study runs: about {e['cpu_s'] / 60:.3g} CPU min "
+            f"(budget {e['max_cpu_s'] / 3600:g} h)")
