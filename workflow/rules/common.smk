@@ -11,9 +11,6 @@ ENV = "../envs/uavdamp.yaml"
 
 PLATFORM = canonical(config["platform"])
 PLATFORM_MODEL = config_view(config["platform"], drop=["response"])
-REFERENCE_GRID = config_view(
-    config["reference_table"], drop=["n_chunks", "threads", "flat_tolerance"]
-)
 ANFIS = canonical(config["anfis"])
 STUDY_EXCITATION = config_view(
     config["study"], keep=["cases", "duration_s", "highpass_hz", "tracking"]

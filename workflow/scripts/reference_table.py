@@ -4,22 +4,28 @@ import os
 
 os.environ.setdefault("EXUDYN_MODULE", "fast")  # as the chunk jobs: the verification's Exudyn runs
 
-from uavdamp import criterion, grid, io, workflow  # noqa: E402
+from uavdamp import chunks, criterion, grid, io, workflow  # noqa: E402
 from uavdamp.plots.reference_table import reference_table_figure  # noqa: E402
 
 workflow.start_log(snakemake.log[0])
 spec = grid.GridSpec.from_config(snakemake.params.grid)
 platform = snakemake.params.platform
-full = grid.merge_chunks(spec, [io.open_dataset(path) for path in snakemake.input.chunks])
+parts = []
+for path in snakemake.input.chunks:  # "i-of-N.nc": each one checked before it is used
+    chunk, n_chunks = (int(v) for v in os.path.basename(path).removesuffix(".nc").split("-of-"))
+    points = grid.chunk_points(spec, n_chunks, chunk - 1)
+    parts.append(chunks.load_chunk(path, points=points, config={"reference_table": snakemake.params.grid,
+                                                                "platform": platform}))
+full = grid.merge_chunks(spec, parts)
 workflow.log_info(f"{full.attrs['n_points']} points ({full.attrs['plant']} plant), {full.attrs['n_failed']} failed; "
-            f"plant {full.attrs['solver_time_s']:.1f} s, build {full.attrs['build_time_s']:.2f} s, "
-            f"workers {full.attrs['worker_time_s']:.1f} s")
+                  f"plant {full.attrs['solver_time_s']:.1f} s, build {full.attrs['build_time_s']:.2f} s, "
+                  f"workers {full.attrs['worker_time_s']:.1f} s")
 check = grid.VerifySpec.from_config(snakemake.params.verify)
 checked = grid.verify(platform, spec, full, check, n_jobs=snakemake.threads)
 full = full.assign(checked.data_vars)
 full.attrs.update(checked.attrs)
 workflow.log_info(f"verification: {check.n_points} points, largest relative difference linear vs Exudyn "
-            f"{float(checked.verify_max_relative_difference):.3%} (tolerance {check.tolerance:.3%})")
+                  f"{float(checked.verify_max_relative_difference):.3%} (tolerance {check.tolerance:.3%})")
 grid.check_verification(spec, checked, check.tolerance)  # raises VerificationFailed naming the worst point
 table = criterion.reference_table(full, snakemake.params.flat_tolerance)
 table.attrs["plant"] = full.attrs["plant"]

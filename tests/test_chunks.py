@@ -1,0 +1,121 @@
+"""Guarded chunks: one writer at a time, and the gather refuses a bad chunk naming it and its rebuild."""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import shutil
+
+import numpy as np
+import pytest
+
+from conftest import load_config, snakemake
+from uavdamp import chunks, grid, io
+
+
+def _hold(path, ready, release):
+    with chunks.exclusive(path):
+        ready.set()
+        release.wait(30)
+
+
+def test_a_second_writer_stops_at_once_naming_the_file(tmp_path):
+    """Another process holds the chunk's lock (a killed run's surviving job): the second writer is refused."""
+    target = tmp_path / "chunks" / "2-of-3.nc"
+    ctx = multiprocessing.get_context("spawn")
+    ready, release = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=_hold, args=(str(target), ready, release))
+    holder.start()
+    try:
+        assert ready.wait(60)
+        with pytest.raises(ValueError, match=r"2-of-3.nc: another process is writing this chunk"):
+            with chunks.exclusive(target):
+                pass
+    finally:
+        release.set()
+        holder.join(30)
+    with chunks.exclusive(target):  # free again once the holder is gone
+        pass
+
+
+def test_a_killed_holder_releases_the_lock(tmp_path):
+    target = tmp_path / "1-of-3.nc"
+    ctx = multiprocessing.get_context("spawn")
+    ready, release = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=_hold, args=(str(target), ready, release))
+    holder.start()
+    assert ready.wait(60)
+    holder.kill()  # SIGKILL: no clean-up in the holder
+    holder.join(30)
+    with chunks.exclusive(target):
+        pass
+
+
+@pytest.fixture(scope="module")
+def quick_chunks(quick_run):
+    return quick_run / "reports/reference_table/chunks"
+
+
+def _config(quick_run, path):
+    return json.loads(io.open_dataset(path).attrs["config_reference_table"])
+
+
+def _points(quick_config, name):
+    spec = grid.GridSpec.from_config({k: v for k, v in quick_config["reference_table"].items()
+                                      if k not in ("n_chunks", "threads", "flat_tolerance", "verify")})
+    i, n = (int(v) for v in name.removesuffix(".nc").split("-of-"))
+    return grid.chunk_points(spec, n, i - 1)
+
+
+def test_good_chunk_loads(quick_run, quick_chunks, quick_config):
+    path = quick_chunks / "1-of-3.nc"
+    ds = chunks.load_chunk(path, points=_points(quick_config, path.name), config=_config(quick_run, path))
+    assert ds.sizes["point"] == _points(quick_config, path.name).size
+
+
+@pytest.mark.parametrize("damage", ["truncated", "zero-criterion", "other-config", "other-points"])
+def test_bad_chunk_is_named_with_its_rebuild(quick_run, quick_chunks, quick_config, tmp_path, damage):
+    source = quick_chunks / "2-of-3.nc"
+    path = tmp_path / "2-of-3.nc"
+    config, points = _config(quick_run, source), _points(quick_config, source.name)
+    if damage == "truncated":
+        path.write_bytes(source.read_bytes()[:1000])
+        expected = "cannot be read"
+    else:
+        shutil.copy(source, path)
+        if damage == "zero-criterion":
+            ds = io.open_dataset(source)
+            name = next(v for v in ds.data_vars if v.startswith("criterion"))
+            ds[name].values[..., 0] = 0.0
+            ds.to_netcdf(path)
+            expected = "is not finite and positive"
+        elif damage == "other-config":
+            config = {**config, "reference_table": {**config["reference_table"], "duration": 9.0}}
+            expected = "was made with another config"
+        else:
+            points = points + 1
+            expected = "not this chunk's"
+    with pytest.raises(ValueError, match=expected) as error:
+        chunks.load_chunk(path, points=points, config=config)
+    assert str(path) in str(error.value) and f"rm {path} && snakemake" in str(error.value)
+
+
+def test_gather_refuses_a_damaged_chunk_in_the_pipeline(quick_run, tmp_path):
+    """Through Snakemake: a chunk overwritten with criterion 0 is named by the gather's error."""
+    from conftest import copy_workflow
+
+    work = copy_workflow(tmp_path)
+    shutil.copytree(quick_run / "reports" / "reference_table", work / "reports" / "reference_table")
+    bad = work / "reports/reference_table/chunks/3-of-3.nc"
+    ds = io.open_dataset(bad)
+    name = next(v for v in ds.data_vars if v.startswith("criterion"))
+    ds[name].values[..., 0] = 0.0
+    io.write_netcdf(ds.drop_attrs(deep=False), bad, json.loads(ds.attrs["config_reference_table"]), section="reference_table")
+    (work / "reports/reference_table/grid.nc").unlink()
+    result = snakemake(work, "-j1", "reports/reference_table/grid.nc", "--configfile", "config/quick.yaml",
+                       timeout=600)
+    log = (work / "reports/logs/reference_table/gather.log").read_text()
+    assert result.returncode != 0
+    assert "3-of-3.nc" in log and "is not finite and positive" in log, log[-2000:]
+    # the run stops at the gather: no grid or table made from the bad chunk
+    assert not (work / "reports/reference_table/grid.nc").exists()
