@@ -27,6 +27,7 @@ from uavdamp.contract import SolverFailed
 from uavdamp.excitation import sine_input
 from uavdamp.linear_plant import LinearPlant, sine_criteria
 from uavdamp.platform import ExudynPlant, PlatformParams
+from uavdamp.progress import each
 
 DIMS = ("freq_y", "freq_z", "stiffness", "damping")
 COORD_ATTRS = {
@@ -293,11 +294,8 @@ def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int =
 
 
 def _progress(iterable, total: int, show: bool):
-    if not show:
-        return iterable
-    from tqdm import tqdm
-
-    return tqdm(iterable, total=total, unit="batch", mininterval=2.0)
+    """A console bar over the batches (`uavdamp.progress`: on the terminal, not in the job's log)."""
+    return each(iterable, total, "grid chunk", "batch") if show else iterable
 
 
 def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:

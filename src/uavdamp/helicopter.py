@@ -25,6 +25,7 @@ import xarray as xr
 from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ, TreeLink
 
 from uavdamp import spectrum
+from uavdamp.progress import bar
 
 FUSELAGE_LINK = 5
 HUB_LINK = 6
@@ -329,9 +330,25 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
     return Model(sc, mbs, node, sensors, masses)
 
 
-def solve(model: Model, options: SolverOptions) -> dict:
-    """Integrate in time; return solver statistics. Raises RuntimeError if the solver fails."""
-    if not model.mbs.SolveDynamic(options.settings(), solverType=exu.DynamicSolverType.GeneralizedAlpha):
+def solve(model: Model, options: SolverOptions, progress: str | None = None) -> dict:
+    """Integrate in time; return solver statistics. Raises RuntimeError if the solver fails.
+
+    progress: a label for a console bar in simulated seconds (`uavdamp.progress`; shown only on a terminal).
+    """
+    shown = bar(options.duration, progress, "s") if progress else None
+    if shown is not None and not shown.disable:  # a per-step call only when the bar is on screen
+        def advance(mbs, t):
+            if t - shown.n >= 0.1:
+                shown.update(t - shown.n)
+            return True
+
+        model.mbs.SetPreStepUserFunction(advance)
+    try:
+        ok = model.mbs.SolveDynamic(options.settings(), solverType=exu.DynamicSolverType.GeneralizedAlpha)
+    finally:
+        if shown is not None:
+            shown.close()
+    if not ok:
         raise RuntimeError("helicopter time integration failed")
     it = model.mbs.sys["dynamicSolver"].it
     return {"newton_iterations": int(it.newtonStepsCount), "jacobian_updates": int(it.newtonJacobiCount)}
@@ -344,13 +361,13 @@ def linear_momentum(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return first[:, 0], sum(model.link_masses[k] * d[:, 1:4] for k, d in data.items())
 
 
-def run(heli: Helicopter, options: SolverOptions) -> xr.Dataset:
+def run(heli: Helicopter, options: SolverOptions, progress: str | None = None) -> xr.Dataset:
     """Simulate and return the mount point's inertial displacement from its start, m, (axis, time).
 
-    Attributes record the main rotor angle error after the run (rad) and solver statistics.
+    Attributes record the main rotor angle error after the run (rad) and solver statistics; `progress` as `solve`.
     """
     model = build(heli)
-    stats = solve(model, options)
+    stats = solve(model, options, progress)
     mount = model.mbs.GetSensorStoredData(model.sensors["mount"])
     q = model.mbs.GetSensorStoredData(model.sensors["coordinates"])
     time = mount[:, 0]

@@ -18,6 +18,7 @@ from uavdamp.config import load, require, setting
 from uavdamp.excitation import on_grid
 from uavdamp.platform import PlatformParams
 from uavdamp.plants import Plants
+from uavdamp.progress import bar
 from uavdamp.camera import CameraModel
 from uavdamp.tracking import TrackerOptions
 
@@ -49,12 +50,13 @@ class StudyOptions:
         require(len(set(self.stiffness)) == len(self.stiffness), "study.stiffness_n_m", "values must be unique")
 
 
-def run_study(cases: xr.Dataset, platform, model, options: StudyOptions) -> xr.Dataset:
-    """Simulate every case x stiffness x strategy; return the comparison dataset."""
+def run_study(cases: xr.Dataset, platform, model, options: StudyOptions, progress: bool = False) -> xr.Dataset:
+    """Simulate every case x stiffness x strategy; return the comparison dataset (`progress`: a console bar)."""
     params = PlatformParams.from_config(platform)
     plants = Plants(params)
     time = cases.time.values
     per_case = []
+    shown = bar(cases.sizes["case"] * len(options.stiffness), "study", "case x K") if progress else None
     for case in cases.case.values:
         y, z = (cases.mount_displacement.sel(case=case, axis=a).values for a in ("y", "z"))
         per_stiffness = []
@@ -65,7 +67,11 @@ def run_study(cases: xr.Dataset, platform, model, options: StudyOptions) -> xr.D
 
             context = strategies.Context(options, params, model, float(stiffness), run)
             per_stiffness.append(_one_case_and_stiffness(context, options.strategies))
+            if shown is not None:
+                shown.update()
         per_case.append(_concat(per_stiffness, "stiffness"))
+    if shown is not None:
+        shown.close()
     ds = _concat(per_case, "case")
     return _finish(ds.transpose("case", "stiffness", "strategy", ...), cases, options, params)
 
