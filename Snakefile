@@ -2,6 +2,9 @@
 # Thin on purpose: stages live in workflow/rules/*.smk, logic in src/uavdamp.
 from snakemake.utils import min_version, validate
 
+import sys
+
+from uavdamp import budget
 from uavdamp.checks import check_config
 from uavdamp.workflow import export_provenance
 
@@ -11,30 +14,17 @@ min_version("9.0")
 configfile: "config/config.yaml"
 
 
+report: "workflow/report/workflow.rst"
+
+
 validate(config, "workflow/schemas/config.schema.yaml")
-check_config(config)  # values against each other, before any job
+# values against each other and the cost estimate, before any job
+print(budget.summary(check_config(config)), file=sys.stderr)
 export_provenance(workflow.configfiles, workflow.basedir)
 
 
 scattergather:
     reference_table=config["reference_table"]["n_chunks"],
-
-
-rule all:
-    default_target: True
-    input:
-        "reports/helicopter/vibration.nc",
-        "reports/figures/fuselage_vibration.png",
-        "reports/helicopter/campbell.nc",
-        "reports/figures/helicopter_campbell.png",
-        "reports/helicopter/sensitivity.nc",
-        "reports/figures/helicopter_sensitivity.png",
-        "reports/platform/modes.nc",
-        "reports/figures/platform_response.png",
-        "reports/reference_table/table.nc",
-        "reports/figures/reference_table.png",
-        "reports/anfis/model.nc",
-        "reports/study/comparison.nc",
 
 
 include: "workflow/rules/common.smk"
@@ -43,3 +33,20 @@ include: "workflow/rules/platform.smk"
 include: "workflow/rules/reference_table.smk"
 include: "workflow/rules/anfis.smk"
 include: "workflow/rules/study.smk"
+
+
+# every output of every rule, so that any deleted file is rebuilt (tests/test_rebuild.py)
+rule all:
+    default_target: True
+    input:
+        expand(rules.helicopter_run.output, rotor=RUNS),
+        rules.helicopter_vibration.output,
+        rules.helicopter_campbell.output,
+        expand(rules.helicopter_sensitivity_run.output, run=SENSITIVITY_RUNS),
+        rules.helicopter_sensitivity.output,
+        rules.platform_modes.output,
+        gather.reference_table(rules.reference_table_chunk.output[0]),
+        rules.reference_table.output,
+        rules.anfis.output,
+        rules.excitation.output,
+        rules.study.output,

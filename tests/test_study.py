@@ -102,9 +102,13 @@ def test_html_report(quick_run):
     result = snakemake(quick_run, "--report", "reports/report.html", "--configfile", "config/quick.yaml", timeout=600)
     assert result.returncode == 0, result.stderr[-3000:]
     html = (quick_run / "reports/report.html").read_text(errors="replace")
-    assert len(html) > 100_000
-    for name in ("study_fig10_rigid.png", "study_fig12_tracked_frequency.png", "anfis_membership.png", "rules.txt"):
-        assert name in html, name
+    figures = sorted(p.name for p in (quick_run / "reports/figures").rglob("*.png"))
+    assert len(figures) >= 12, figures
+    missing = [name for name in [*figures, "rules.txt"] if name not in html]
+    assert not missing, f"not in the report: {missing}"
+    # captions are rendered from the config (Jinja), not hard-coded
+    assert "passive damper (constant C = 2.0 N s/m)" in html
+    assert "Stages:" in html  # the workflow description page
 
 
 def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):

@@ -5,7 +5,11 @@ rule anfis:
     output:
         model="reports/anfis/model.nc",
         training="reports/anfis/training.nc",
-        rules="reports/anfis/rules.txt",
+        rules=report(
+            "reports/anfis/rules.txt",
+            caption="../report/anfis_rules.rst",
+            category="ANFIS",
+        ),
         membership=report(
             "reports/figures/anfis_membership.png",
             caption="../report/anfis_membership.rst",

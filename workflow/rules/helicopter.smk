@@ -33,7 +33,11 @@ rule helicopter_vibration:
         runs=expand("reports/helicopter/runs/{rotor}.nc", rotor=ROTORS),
     output:
         vibration="reports/helicopter/vibration.nc",
-        figure="reports/figures/fuselage_vibration.png",
+        figure=report(
+            "reports/figures/fuselage_vibration.png",
+            caption="../report/fuselage_vibration.rst",
+            category="Helicopter",
+        ),
     log:
         "reports/logs/helicopter_vibration.log",
     conda:

@@ -1,7 +1,11 @@
 rule platform_modes:
     output:
         modes="reports/platform/modes.nc",
-        figure="reports/figures/platform_response.png",
+        figure=report(
+            "reports/figures/platform_response.png",
+            caption="../report/platform_response.rst",
+            category="Platform",
+        ),
     log:
         "reports/logs/platform_modes.log",
     benchmark:

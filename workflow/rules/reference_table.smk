@@ -28,7 +28,11 @@ rule reference_table:
     output:
         grid="reports/reference_table/grid.nc",
         table="reports/reference_table/table.nc",
-        figure="reports/figures/reference_table.png",
+        figure=report(
+            "reports/figures/reference_table.png",
+            caption="../report/reference_table.rst",
+            category="Reference table",
+        ),
     log:
         "reports/logs/reference_table/gather.log",
     benchmark:

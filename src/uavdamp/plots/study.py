@@ -26,6 +26,16 @@ def _mm(da: xr.DataArray) -> np.ndarray:
     return 1e3 * da.values
 
 
+def _damping_axis(ax, values) -> None:
+    """C axis: logarithmic only where C spans more than a decade; plain numbers, not 2 x 10^0, otherwise."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size and v.max() / v.min() > 10:
+        ax.set_yscale("log")
+    else:
+        ax.ticklabel_format(axis="y", style="plain", useOffset=False)
+
+
 def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: float = 2.0):
     """Fig. 10 analogue: the camera without isolation, with the input and the paper's 1.5 mm mark."""
     part = ds.sel(case=case, time=slice(0, window_s))
@@ -55,7 +65,8 @@ def passive_vs_anfis_figure(ds: xr.Dataset, case: str, axis: str, stiffness: flo
     ax.axvline(0.5, color="0.3", ls="--", lw=0.6)
     ax.set(ylabel=f"camera {axis.upper()} (mm)", title=f"{case}, K = {stiffness:g} N/m: passive vs ANFIS semi-active")
     ax.legend(fontsize=8)
-    axc.set(xlabel="time (s)", ylabel="C (N s/m)", yscale="log")
+    axc.set(xlabel="time (s)", ylabel="C (N s/m)")
+    _damping_axis(axc, part.damping.sel(strategy=["passive", "anfis"]).values)
     return fig
 
 
@@ -90,7 +101,8 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 3.0):
             if strategy != "rigid":
                 ax.step(part.time, part.damping.sel(stiffness=k, strategy=strategy), where="post",
                         color=colour(str(strategy), ds.strategy.values), lw=0.9, label=str(strategy))
-        ax.set(xlabel="time (s)", ylabel="C (N s/m)", yscale="log", title=f"K = {k:g} N/m: damping")
+        ax.set(xlabel="time (s)", ylabel="C (N s/m)", title=f"K = {k:g} N/m: damping")
+        _damping_axis(ax, part.damping.sel(stiffness=k).values)
         ax = axes[row, 3]
         names = [str(s) for s in ds.strategy.values]
         x = np.arange(len(names))

@@ -1,0 +1,51 @@
+"""Every output is requested by `rule all`: delete any one and the dry run plans the rule that rebuilds it."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from conftest import snakemake
+
+# one output of each kind per producing rule (rule name, path under the quick run's folder)
+OUTPUTS = [
+    ("helicopter_run", "reports/helicopter/runs/imbalanced.nc"),
+    ("helicopter_vibration", "reports/figures/fuselage_vibration.png"),
+    ("helicopter_campbell", "reports/helicopter/campbell.nc"),
+    ("helicopter_sensitivity_run", "reports/helicopter/sensitivity/baseline.nc"),
+    ("helicopter_sensitivity", "reports/figures/helicopter_sensitivity.png"),
+    ("platform_modes", "reports/figures/platform_response.png"),
+    ("reference_table_chunk", "reports/reference_table/chunks/2-of-3.nc"),
+    ("reference_table", "reports/reference_table/grid.nc"),
+    ("anfis", "reports/anfis/rules.txt"),
+    ("anfis", "reports/anfis/training.nc"),
+    ("anfis", "reports/figures/anfis_selection.png"),
+    ("excitation", "reports/excitation/cases.nc"),
+    ("study", "reports/figures/study_fig12_tracked_frequency.png"),
+]
+
+
+def _planned(output: str) -> set[str]:
+    table = output[output.index("job "):output.index("total")]
+    return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
+
+
+@pytest.mark.parametrize(("rule", "path"), OUTPUTS, ids=[p.rsplit("/", 1)[-1] for _, p in OUTPUTS])
+def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
+    target = quick_run / path
+    assert target.is_file(), path
+    aside = target.with_name(target.name + ".aside")
+    os.replace(target, aside)  # keeps the mtime, so putting it back restores the finished run
+    try:
+        result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    finally:
+        os.replace(aside, target)
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert rule in _planned(result.stdout + result.stderr), (rule, result.stdout[-3000:])
+
+
+def test_nothing_planned_after_a_complete_run(quick_run):
+    result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert "Nothing to be done" in result.stdout + result.stderr, result.stdout[-3000:]
