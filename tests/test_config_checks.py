@@ -40,7 +40,9 @@ BAD = {
     "grid-over-budget": ({"reference_table": {"freq_y_hz": {"num": 1000}, "freq_z_hz": {"num": 1000},
                                               "damping": {"num": 1000}}},
                          "budget.max_cpu_hours: the run is estimated at 55.6 CPU hours (grid 2,000,000,000 points"),
-    "budget-not-positive": ({"budget": {"max_cpu_hours": 0.0}}, "budget.max_cpu_hours: must be > 0, got 0.0"),
+    "budget-not-positive": ({"budget": {"max_cpu_hours": 0.0}},
+                            "Failed validating 'exclusiveMinimum' in schema['properties']['budget']['properties']"
+                            "['max_cpu_hours']"),
     "figure-case-unknown": ({"study": {"figures": {"case_1": "case9"}}}, "study.figures.case_1: 'case9' is not a case"),
 }
 
