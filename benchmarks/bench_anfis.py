@@ -51,8 +51,10 @@ def main() -> None:
     args = parser.parse_args()
     pools = ", ".join(f"{p['internal_api']} x{p['num_threads']}" for p in threadpool_info())
     print(f"ANFIS fit time, 3 inputs, grid init, {args.epochs} epochs, median of {args.repeats}; BLAS pools: {pools}")
-    print(f"{'rules':>6}{'rows':>7}{'default threads [s]':>21}{'one thread [s]':>16}{'ratio':>7}"
-          f"{'no internal limit [s]':>23}")
+    print(
+        f"{'rules':>6}{'rows':>7}{'default threads [s]':>21}{'one thread [s]':>16}{'ratio':>7}"
+        f"{'no internal limit [s]':>23}"
+    )
     no_limit = mock.patch.object(anfis, "threadpool_limits", lambda **_: contextlib.nullcontext())
     for n_rows in (1000, 10000):
         X, y = data(n_rows)

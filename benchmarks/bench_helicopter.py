@@ -49,5 +49,7 @@ for _ in range(args.repeats):
     t1, c1 = time.perf_counter(), time.process_time()
     stats = helicopter.solve(model, options)
     t2, c2 = time.perf_counter(), time.process_time()
-    print(f"{t1 - t0:8.3f} {t2 - t1:12.2f} {c2 - c1:11.2f} {options.duration / (t2 - t1):14.2f} "
-          f"{stats['newton_iterations']:10d}")
+    print(
+        f"{t1 - t0:8.3f} {t2 - t1:12.2f} {c2 - c1:11.2f} {options.duration / (t2 - t1):14.2f} "
+        f"{stats['newton_iterations']:10d}"
+    )

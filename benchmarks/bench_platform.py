@@ -59,7 +59,7 @@ def main() -> None:
             totals.append(time.perf_counter() - t0)
             solves.append(sim.solve_time)
             pre.append(pre_step[0])
-        rest = [total - solve for total, solve in zip(totals, solves)]
+        rest = [total - solve for total, solve in zip(totals, solves, strict=True)]
         print(
             f"{mount + ', ' + body:<20}{min(builds):>9.4f}{min(solves):>9.3f}{min(pre):>12.3f}"
             f"{statistics.median(rest):>9.4f}{sim.newton_iterations:>12d}"

@@ -23,9 +23,7 @@ pytestmark = pytest.mark.filterwarnings("error")
 
 LO = np.array([5.0, 5.0, 10.0])  # f_y [Hz], f_z [Hz], K [N/m]
 HI = np.array([30.0, 30.0, 1000.0])
-NAMES = dict(
-    input_names=["f_y", "f_z", "K"], input_units=["Hz", "Hz", "N/m"], output_name="C", output_units="N s/m"
-)
+NAMES = dict(input_names=["f_y", "f_z", "K"], input_units=["Hz", "Hz", "N/m"], output_name="C", output_units="N s/m")
 
 
 def smooth(X):
@@ -299,9 +297,7 @@ def test_fcm_two_rules_three_inputs():
     """The paper's configuration: three inputs, two rules."""
     X, y = sample(400, 8)
     state = np.random.get_state()[1].copy()
-    model = ANFIS(init="fcm", n_rules=2, epochs=200, random_state=3, **NAMES).fit(
-        X[:300], y[:300], X[300:], y[300:]
-    )
+    model = ANFIS(init="fcm", n_rules=2, epochs=200, random_state=3, **NAMES).fit(X[:300], y[:300], X[300:], y[300:])
     assert np.array_equal(np.random.get_state()[1], state)  # numpy's global generator untouched
     assert model.n_rules_ == 2 and model.rule_mf_.shape == (2, 3) and model.centres_.shape == (6,)
     X_test, y_test = sample(1000, 9)

@@ -6,10 +6,9 @@ import json
 import multiprocessing
 import shutil
 
-import numpy as np
 import pytest
+from conftest import snakemake
 
-from conftest import load_config, snakemake
 from uavdamp import chunks, grid, io
 
 
@@ -61,8 +60,13 @@ def _config(quick_run, path):
 
 
 def _points(quick_config, name):
-    spec = grid.GridSpec.from_config({k: v for k, v in quick_config["reference_table"].items()
-                                      if k not in ("n_chunks", "threads", "flat_tolerance", "verify")})
+    spec = grid.GridSpec.from_config(
+        {
+            k: v
+            for k, v in quick_config["reference_table"].items()
+            if k not in ("n_chunks", "threads", "flat_tolerance", "verify")
+        }
+    )
     i, n = (int(v) for v in name.removesuffix(".nc").split("-of-"))
     return grid.chunk_points(spec, n, i - 1)
 
@@ -110,10 +114,11 @@ def test_gather_refuses_a_damaged_chunk_in_the_pipeline(quick_run, tmp_path):
     ds = io.open_dataset(bad)
     name = next(v for v in ds.data_vars if v.startswith("criterion"))
     ds[name].values[..., 0] = 0.0
-    io.write_netcdf(ds.drop_attrs(deep=False), bad, json.loads(ds.attrs["config_reference_table"]), section="reference_table")
+    io.write_netcdf(
+        ds.drop_attrs(deep=False), bad, json.loads(ds.attrs["config_reference_table"]), section="reference_table"
+    )
     (work / "reports/reference_table/grid.nc").unlink()
-    result = snakemake(work, "-j1", "reports/reference_table/grid.nc", "--configfile", "config/quick.yaml",
-                       timeout=600)
+    result = snakemake(work, "-j1", "reports/reference_table/grid.nc", "--configfile", "config/quick.yaml", timeout=600)
     log = (work / "reports/logs/reference_table/gather.log").read_text()
     assert result.returncode != 0
     assert "3-of-3.nc" in log and "is not finite and positive" in log, log[-2000:]

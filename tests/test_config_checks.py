@@ -8,41 +8,60 @@ from __future__ import annotations
 
 import pytest
 import yaml
-
+from conftest import ROOT, copy_workflow, load_config, snakemake
 from snakemake.exceptions import WorkflowError
 
-from conftest import ROOT, copy_workflow, load_config, snakemake
 from uavdamp import checks
 
 # (override merged over quick.yaml, text the error must contain)
 BAD = {
-    "freq-above-nyquist": ({"reference_table": {"freq_y_hz": {"start": 4.0, "stop": 200.0}}},
-                           "reference_table.freq_y_hz: 200 Hz must stay below 0.25 x the Nyquist frequency"),
-    "response-above-nyquist": ({"platform": {"response": {"freq_z_hz": 40.0}}},
-                               "platform.response.freq_z_hz: 40 Hz must stay below"),
-    "tracking-band-reversed": ({"study": {"tracking": {"min_freq_hz": 12.0, "max_freq_hz": 3.0}}},
-                               "study.tracking.max_freq_hz: the band [12.0, 3.0] Hz is empty"),
-    "duplicated-study-stiffness": ({"study": {"stiffness_n_m": [10.0, 10.0]}},
-                                   "[10.0, 10.0] has non-unique elements\n\nFailed validating 'uniqueItems' in "
-                                   "schema['properties']['study']['properties']['stiffness_n_m']"),
-    "damper-bounds-reversed": ({"platform": {"isolator": {"damping_min_n_s_m": 50.0, "damping_max_n_s_m": 5.0}}},
-                               "platform.isolator.damping_max_n_s_m: (5.0) must be >="),
+    "freq-above-nyquist": (
+        {"reference_table": {"freq_y_hz": {"start": 4.0, "stop": 200.0}}},
+        "reference_table.freq_y_hz: 200 Hz must stay below 0.25 x the Nyquist frequency",
+    ),
+    "response-above-nyquist": (
+        {"platform": {"response": {"freq_z_hz": 40.0}}},
+        "platform.response.freq_z_hz: 40 Hz must stay below",
+    ),
+    "tracking-band-reversed": (
+        {"study": {"tracking": {"min_freq_hz": 12.0, "max_freq_hz": 3.0}}},
+        "study.tracking.max_freq_hz: the band [12.0, 3.0] Hz is empty",
+    ),
+    "duplicated-study-stiffness": (
+        {"study": {"stiffness_n_m": [10.0, 10.0]}},
+        "[10.0, 10.0] has non-unique elements\n\nFailed validating 'uniqueItems' in "
+        "schema['properties']['study']['properties']['stiffness_n_m']",
+    ),
+    "damper-bounds-reversed": (
+        {"platform": {"isolator": {"damping_min_n_s_m": 50.0, "damping_max_n_s_m": 5.0}}},
+        "platform.isolator.damping_max_n_s_m: (5.0) must be >=",
+    ),
     "grid-window-longer-than-run": ({"reference_table": {"window": [0.0, 9.0]}}, "reference_table.window"),
-    "update-period-not-a-multiple": ({"platform": {"isolator": {"update_period_s": 0.5003}}},
-                                     "platform.isolator.update_period_s: (0.5003 s) must be a whole multiple"),
-    "duplicated-grid-values": ({"reference_table": {"stiffness": {"values": [10.0, 10.0]}}},
-                               "reference_table.stiffness: values must be strictly increasing"),
-    "passive-outside-bounds": ({"study": {"passive_damping_n_s_m": 500.0}},
-                               "study.passive_damping_n_s_m: (500.0) must lie within the damper bounds"),
+    "update-period-not-a-multiple": (
+        {"platform": {"isolator": {"update_period_s": 0.5003}}},
+        "platform.isolator.update_period_s: (0.5003 s) must be a whole multiple",
+    ),
+    "duplicated-grid-values": (
+        {"reference_table": {"stiffness": {"values": [10.0, 10.0]}}},
+        "reference_table.stiffness: values must be strictly increasing",
+    ),
+    "passive-outside-bounds": (
+        {"study": {"passive_damping_n_s_m": 500.0}},
+        "study.passive_damping_n_s_m: (500.0) must lie within the damper bounds",
+    ),
     "early-window-after-run": ({"study": {"early_s": 3.0}}, "study.early_s: (3.0 s) must lie inside study.duration_s"),
-    "unknown-strategy": ({"study": {"strategies": ["passive", "telepathy"]}},
-                         "'telepathy' is not one of ['rigid', 'passive', 'optimal_passive', 'anfis', 'skyhook']"),
-    "grid-over-budget": ({"reference_table": {"freq_y_hz": {"num": 1000}, "freq_z_hz": {"num": 1000},
-                                              "damping": {"num": 1000}}},
-                         "budget.max_cpu_hours: the run is estimated at 55.6 CPU hours (grid 2,000,000,000 points"),
-    "budget-not-positive": ({"budget": {"max_cpu_hours": 0.0}},
-                            "Failed validating 'exclusiveMinimum' in schema['properties']['budget']['properties']"
-                            "['max_cpu_hours']"),
+    "unknown-strategy": (
+        {"study": {"strategies": ["passive", "telepathy"]}},
+        "'telepathy' is not one of ['rigid', 'passive', 'optimal_passive', 'anfis', 'skyhook']",
+    ),
+    "grid-over-budget": (
+        {"reference_table": {"freq_y_hz": {"num": 1000}, "freq_z_hz": {"num": 1000}, "damping": {"num": 1000}}},
+        "budget.max_cpu_hours: the run is estimated at 55.6 CPU hours (grid 2,000,000,000 points",
+    ),
+    "budget-not-positive": (
+        {"budget": {"max_cpu_hours": 0.0}},
+        "Failed validating 'exclusiveMinimum' in schema['properties']['budget']['properties']['max_cpu_hours']",
+    ),
     "figure-case-unknown": ({"study": {"figures": {"case_1": "case9"}}}, "study.figures.case_1: 'case9' is not a case"),
 }
 

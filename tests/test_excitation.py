@@ -8,8 +8,10 @@ from uavdamp import excitation
 
 DT, HIGHPASS_HZ, BAND_HZ = 0.005, 2.0, (3.0, 12.0)
 # (freq Hz, amplitude m, phase rad): Y dominated by 7.07 Hz, Z by 7.99 Hz with lines 1 Hz apart (as case 1)
-LINES = {"y": [(6.6, 0.4e-3, 0.2), (7.07, 14.2e-3, 1.0), (7.54, 0.4e-3, 2.0)],
-         "z": [(6.07, 0.5e-3, 0.3), (7.07, 1.1e-3, 1.1), (7.99, 1.7e-3, 2.2)]}
+LINES = {
+    "y": [(6.6, 0.4e-3, 0.2), (7.07, 14.2e-3, 1.0), (7.54, 0.4e-3, 2.0)],
+    "z": [(6.07, 0.5e-3, 0.3), (7.07, 1.1e-3, 1.1), (7.99, 1.7e-3, 2.2)],
+}
 
 
 def _gain(freq_hz):
@@ -26,15 +28,17 @@ def fake_run(duration=6.0):
     t = np.arange(0, duration + DT / 2, DT)
     drift = 2e-2 * np.sin(2 * np.pi * 1.0 * t)  # the free fuselage's slow wobble, removed by the high-pass
     disp = {axis: drift + sum(a * np.sin(2 * np.pi * f * t + p) for f, a, p in lines) for axis, lines in LINES.items()}
-    return xr.Dataset({"displacement": (("axis", "time"), np.stack([np.zeros_like(t), disp["y"], disp["z"]]))},
-                      coords={"axis": ["x", "y", "z"], "time": t})
+    return xr.Dataset(
+        {"displacement": (("axis", "time"), np.stack([np.zeros_like(t), disp["y"], disp["z"]]))},
+        coords={"axis": ["x", "y", "z"], "time": t},
+    )
 
 
 def cases(reading, scaling, amplitude=1.3e-3):
     case = {"run": "imbalanced", "amplitude": amplitude, "amplitude_reading": reading, "amplitude_scaling": scaling}
     return excitation.cases_dataset(
-        {"imbalanced": fake_run()}, {"a": case},
-        duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ).sel(case="a")
+        {"imbalanced": fake_run()}, {"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ
+    ).sel(case="a")
 
 
 @pytest.mark.parametrize(("freq_hz", "amplitude"), [(4.13, 1.7e-3), (7.07, 0.3e-3), (9.871, 2.0)])
@@ -61,23 +65,26 @@ def test_common_scaling_keeps_the_helicopters_ratio(reading):
     ds = cases(reading, "common")
     assert float(ds.scale.sel(axis="y")) == float(ds.scale.sel(axis="z"))
     y, z = (ds.mount_displacement.sel(axis=a).values for a in "yz")
-    raw = {a: excitation.high_pass(fake_run().displacement.sel(axis=a).values, DT, HIGHPASS_HZ)[:y.size] for a in "yz"}
+    raw = {a: excitation.high_pass(fake_run().displacement.sel(axis=a).values, DT, HIGHPASS_HZ)[: y.size] for a in "yz"}
     np.testing.assert_allclose(y / float(ds.scale.sel(axis="y")), raw["y"], rtol=1e-12, atol=1e-18)
     np.testing.assert_allclose(z / float(ds.scale.sel(axis="z")), raw["z"], rtol=1e-12, atol=1e-18)
     # the larger axis (Y here) carries the amplitude; Z keeps its own ratio to it
     if reading == "dominant":
         assert float(ds.scale.sel(axis="y")) == pytest.approx(1.3e-3 / _dominant("y"), rel=5e-3)
-        assert float(ds.dominant_amplitude.sel(axis="z")) == pytest.approx(1.3e-3 * _dominant("z") / _dominant("y"),
-                                                                           rel=1e-2)
+        assert float(ds.dominant_amplitude.sel(axis="z")) == pytest.approx(
+            1.3e-3 * _dominant("z") / _dominant("y"), rel=1e-2
+        )
     else:
         assert float(np.abs(ds.mount_displacement.sel(axis="y")).max()) == pytest.approx(1.3e-3, rel=1e-12)
 
 
-@pytest.mark.parametrize(("key", "value"), [("amplitude_reading", "rms"), ("amplitude_scaling", "by_y"),
-                                            ("amplitude_reading", None)])
+@pytest.mark.parametrize(
+    ("key", "value"), [("amplitude_reading", "rms"), ("amplitude_scaling", "by_y"), ("amplitude_reading", None)]
+)
 def test_bad_reading_or_scaling_is_refused_naming_the_key(key, value):
     case = {"run": "imbalanced", "amplitude": 1e-3, "amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
     case = {k: v for k, v in {**case, key: value}.items() if v is not None}
     with pytest.raises(ValueError, match=f"study.cases.a.{key}"):
-        excitation.cases_dataset({"imbalanced": fake_run()}, {"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ,
-                                 band_hz=BAND_HZ)
+        excitation.cases_dataset(
+            {"imbalanced": fake_run()}, {"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ
+        )

@@ -78,8 +78,12 @@ def test_total_linear_momentum_stays_zero(heli):
     H.solve(model, H.SolverOptions(duration=3.0, step=0.001, output_step=0.005))
     time, momentum = H.linear_momentum(model)
     main = heli.main_rotor
-    rotor_scale = (main.blade_mass * (1 - heli.imbalance_mass_factor) * main.omega_rad_s
-                   * (main.hinge_offset + main.blade_length / 2))  # kg m/s the imbalance carries
+    rotor_scale = (
+        main.blade_mass
+        * (1 - heli.imbalance_mass_factor)
+        * main.omega_rad_s
+        * (main.hinge_offset + main.blade_length / 2)
+    )  # kg m/s the imbalance carries
     assert np.abs(momentum[0]).max() < 1e-9 * rotor_scale
     assert np.abs(momentum).max() < 1e-3 * rotor_scale
 

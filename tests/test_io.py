@@ -16,17 +16,21 @@ from uavdamp import io
 def small_dataset() -> xr.Dataset:
     return xr.Dataset(
         {"displacement": (("axis", "time"), np.arange(6.0).reshape(2, 3), {"units": "m", "long_name": "displacement"})},
-        coords={"axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
-                "time": ("time", [0.0, 0.1, 0.2], {"units": "s", "long_name": "simulation time"})},
+        coords={
+            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
+            "time": ("time", [0.0, 0.1, 0.2], {"units": "s", "long_name": "simulation time"}),
+        },
     )
 
 
 def test_round_trip_with_provenance(tmp_path):
-    path = io.write_netcdf(small_dataset(), tmp_path / "a.nc", {"step": 0.001, "n": np.int64(3)}, section="demo",
-                           command="pytest")
+    path = io.write_netcdf(
+        small_dataset(), tmp_path / "a.nc", {"step": 0.001, "n": np.int64(3)}, section="demo", command="pytest"
+    )
     ds = io.open_dataset(path)
-    xr.testing.assert_identical(ds.displacement.reset_coords(drop=True),
-                                small_dataset().displacement.reset_coords(drop=True))
+    xr.testing.assert_identical(
+        ds.displacement.reset_coords(drop=True), small_dataset().displacement.reset_coords(drop=True)
+    )
     np.testing.assert_array_equal(ds.time.values, [0.0, 0.1, 0.2])
     assert ds.time.attrs["units"] == "s"
     assert ds.attrs["Conventions"] == "CF-1.11"
@@ -53,7 +57,7 @@ def test_failed_write_leaves_no_partial_file(tmp_path):
     ds = small_dataset()
     ds.attrs["bad"] = {"a dict": "is not a valid netCDF attribute"}
     target = tmp_path / "c.nc"
-    with pytest.raises(Exception):
+    with pytest.raises(TypeError, match="bad"):
         io.write_netcdf(ds, target, {}, section="demo")
     assert list(tmp_path.iterdir()) == []
 

@@ -24,8 +24,9 @@ def params() -> PlatformParams:
 def _seen(t, y, z, t_now, base_velocity=(0.0, 0.0), mount_velocity=(0.0, 0.0)) -> Observation:
     """What the plant would show at t_now: the input up to and including t_now."""
     n = int(np.searchsorted(t, t_now + 1e-9, side="right"))
-    return Observation(t_now, t[:n], y[:n], z[:n], np.asarray(base_velocity, float), np.asarray(mount_velocity, float),
-                       np.zeros(2))
+    return Observation(
+        t_now, t[:n], y[:n], z[:n], np.asarray(base_velocity, float), np.asarray(mount_velocity, float), np.zeros(2)
+    )
 
 
 # ---------------------------------------------------------------------------- simple laws, the one clip
@@ -106,8 +107,9 @@ def _two_tone(duration=3.0, dt=0.002):
 
 def _tracker(window=1.0, min_freq_hz=3.0, max_freq_hz=12.0):
     def track(time, signal, t_now):
-        return spectrum.dominant_frequency_causal(time, signal, t_now, window, min_freq_hz=min_freq_hz,
-                                                  max_freq_hz=max_freq_hz)
+        return spectrum.dominant_frequency_causal(
+            time, signal, t_now, window, min_freq_hz=min_freq_hz, max_freq_hz=max_freq_hz
+        )
 
     return track
 
@@ -188,8 +190,11 @@ class Stub:
 def _study_options(**changes):
     from uavdamp.study import StudyOptions
 
-    cfg = {k: v for k, v in load_config("quick.yaml")["study"].items()
-           if k not in ("cases", "duration_s", "highpass_hz", "figures")}
+    cfg = {
+        k: v
+        for k, v in load_config("quick.yaml")["study"].items()
+        if k not in ("cases", "duration_s", "highpass_hz", "figures")
+    }
     for key, value in changes.items():
         cfg[key] = {**cfg[key], **value} if isinstance(value, dict) else value
     return StudyOptions.from_config(cfg)

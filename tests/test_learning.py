@@ -16,16 +16,33 @@ def smooth_table(nan_cells: int = 0) -> xr.Dataset:
     c = 2.0 + 0.3 * FY + 0.1 * FZ + 0.004 * K  # N s/m, smooth and positive
     c.ravel()[:nan_cells] = np.nan
     attrs = {"units": "Hz", "long_name": "f"}
-    return xr.Dataset({"damping_opt": (learning.INPUTS, c, {"units": "N s m-1", "long_name": "C"})},
-                      coords={"freq_y": ("freq_y", fy, attrs), "freq_z": ("freq_z", fz, attrs),
-                              "stiffness": ("stiffness", k, {"units": "N m-1", "long_name": "K"})})
+    return xr.Dataset(
+        {"damping_opt": (learning.INPUTS, c, {"units": "N s m-1", "long_name": "C"})},
+        coords={
+            "freq_y": ("freq_y", fy, attrs),
+            "freq_z": ("freq_z", fz, attrs),
+            "stiffness": ("stiffness", k, {"units": "N m-1", "long_name": "K"}),
+        },
+    )
 
 
-OPTIONS = {"epochs": 40, "error_goal": 0.0, "step_size": 0.01, "step_increase": 1.1, "step_decrease": 0.9,
-           "min_sigma_frac": 0.01, "ridge": 0.0, "log_stiffness": False, "log_damping": False, "train_fraction": 0.8,
-           "seed": 7, "epoch_selection": "validation", "validation_fraction": 0.2, "baselines": ["linear", "knn"],
-           "selection": {"folds": 3,
-                         "candidates": [{"init": "grid", "n_mfs": 2}, {"init": "subtractive", "radius": 0.5}]}}
+OPTIONS = {
+    "epochs": 40,
+    "error_goal": 0.0,
+    "step_size": 0.01,
+    "step_increase": 1.1,
+    "step_decrease": 0.9,
+    "min_sigma_frac": 0.01,
+    "ridge": 0.0,
+    "log_stiffness": False,
+    "log_damping": False,
+    "train_fraction": 0.8,
+    "seed": 7,
+    "epoch_selection": "validation",
+    "validation_fraction": 0.2,
+    "baselines": ["linear", "knn"],
+    "selection": {"folds": 3, "candidates": [{"init": "grid", "n_mfs": 2}, {"init": "subtractive", "radius": 0.5}]},
+}
 
 
 def test_samples_drop_failed_cells():
@@ -54,8 +71,9 @@ def test_training_record_and_fit_quality():
     assert record.validation_rmse.values[best - 1] == pytest.approx(np.min(record.validation_rmse.values))
     # a linear target is inside a first-order TS model's reach: near-exact on held-out cells
     assert record.attrs["check_rmse_final"] < 1e-3 * float(record.damping_reference.mean())
-    np.testing.assert_allclose(record.damping_predicted.values,
-                               model.predict(np.column_stack([record[n].values for n in learning.INPUTS])))
+    np.testing.assert_allclose(
+        record.damping_predicted.values, model.predict(np.column_stack([record[n].values for n in learning.INPUTS]))
+    )
     assert "IF f_y is" in model.rules_text() and "THEN C =" in model.rules_text()
     # every candidate's CV error, every model's checking error; fit times apart from the record
     assert list(record.candidate_label.values) == ["grid n_mfs=2", "subtractive radius=0.5"]
@@ -118,8 +136,10 @@ def test_all_baselines_and_regret_per_model():
     table = smooth_table()
     c = np.geomspace(0.1, 100, 9)
     crit = 1 + (np.log10(c)[None, None, None, :] - np.log10(table.damping_opt.values)[..., None]) ** 2
-    grid = xr.Dataset({"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
-                      coords={**{k: table[k] for k in learning.INPUTS}, "damping": c})
+    grid = xr.Dataset(
+        {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
+        coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
+    )
     options = {**OPTIONS, "baselines": list(baselines.BASELINES), "log_stiffness": True, "log_damping": True}
     _, record, _ = learning.train(table, grid, options)
     assert list(record.model.values) == ["anfis", *baselines.BASELINES]
@@ -129,14 +149,20 @@ def test_all_baselines_and_regret_per_model():
     np.testing.assert_array_equal(record.regret.values, record.regret_by_model.sel(model="anfis").values)
 
 
-@pytest.mark.parametrize("change, match", [
-    ({"baselines": ["svm"]}, "anfis.baselines: unknown baseline 'svm'"),
-    ({"epoch_selection": "best"}, "anfis.epoch_selection"),
-    ({"validation_fraction": 0.0}, "anfis.validation_fraction"),
-    ({"selection": {"folds": 3, "candidates": [{"init": "grid", "radius": 0.5}]}}, r"candidates\[0\]: key 'radius'"),
-    ({"selection": {"folds": 3, "candidates": [{"init": "fcm"}]}}, r"candidates\[0\]: init 'fcm' needs 'n_rules'"),
-    ({"selection": {"folds": 1, "candidates": [{"init": "grid", "n_mfs": 2}]}}, "anfis.selection.folds"),
-])
+@pytest.mark.parametrize(
+    "change, match",
+    [
+        ({"baselines": ["svm"]}, "anfis.baselines: unknown baseline 'svm'"),
+        ({"epoch_selection": "best"}, "anfis.epoch_selection"),
+        ({"validation_fraction": 0.0}, "anfis.validation_fraction"),
+        (
+            {"selection": {"folds": 3, "candidates": [{"init": "grid", "radius": 0.5}]}},
+            r"candidates\[0\]: key 'radius'",
+        ),
+        ({"selection": {"folds": 3, "candidates": [{"init": "fcm"}]}}, r"candidates\[0\]: init 'fcm' needs 'n_rules'"),
+        ({"selection": {"folds": 1, "candidates": [{"init": "grid", "n_mfs": 2}]}}, "anfis.selection.folds"),
+    ],
+)
 def test_bad_options_raise(change, match):
     with pytest.raises(ValueError, match=match):
         learning.train(smooth_table(), None, {**OPTIONS, **change})
@@ -154,8 +180,10 @@ def test_log_transforms_round_trip_and_regret():
     # a grid whose criterion is 1 + |log10 C - log10 C*|, C* = 3.16 N s/m: regret 1 at C*, 2 a decade away
     c = np.geomspace(0.1, 100, 7)
     crit = np.broadcast_to(1 + np.abs(np.log10(c) - np.log10(c[3])), table.damping_opt.shape + (7,))
-    grid = xr.Dataset({"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
-                      coords={**{k: table[k] for k in learning.INPUTS}, "damping": c})
+    grid = xr.Dataset(
+        {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
+        coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
+    )
     np.testing.assert_allclose(learning.regret(grid, X, np.full(len(X), c[3])), 1.0, rtol=1e-12)
     np.testing.assert_allclose(learning.regret(grid, X, np.full(len(X), c[5])), 2.0, rtol=1e-12)
     halfway = learning.regret(grid, X, np.full(len(X), np.sqrt(c[3] * c[4])))  # interpolated in log C
@@ -163,8 +191,12 @@ def test_log_transforms_round_trip_and_regret():
 
 
 def test_training_is_deterministic():
-    options = {**OPTIONS, "epochs": 15, "baselines": ["linear", "knn", "hgb"],
-               "selection": {"folds": 3, "candidates": [{"init": "fcm", "n_rules": 3}]}}
+    options = {
+        **OPTIONS,
+        "epochs": 15,
+        "baselines": ["linear", "knn", "hgb"],
+        "selection": {"folds": 3, "candidates": [{"init": "fcm", "n_rules": 3}]},
+    }
     _, a, _ = learning.train(smooth_table(), None, options)
     _, b, _ = learning.train(smooth_table(), None, options)
     xr.testing.assert_identical(a, b)

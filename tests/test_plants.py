@@ -5,22 +5,25 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import load_config
 from test_platform import CONFIG
 
-from conftest import load_config
 from uavdamp import laws, study
 from uavdamp.linear_plant import LinearPlant
-from uavdamp.platform import ExudynPlant
 from uavdamp.plants import Plants
+from uavdamp.platform import ExudynPlant
 
 
-@pytest.mark.parametrize(("backend", "mount", "law", "expected"), [
-    ("linear", "isolated", laws.Constant(2.0), LinearPlant),
-    ("linear", "isolated", laws.Schedule([2.0, 5.0]), LinearPlant),
-    ("linear", "rigid", None, ExudynPlant),
-    ("linear", "isolated", laws.Skyhook(200.0, 0.0, CONFIG["solver"]["time_step_s"]), ExudynPlant),
-    ("exudyn", "isolated", laws.Constant(2.0), ExudynPlant),
-])
+@pytest.mark.parametrize(
+    ("backend", "mount", "law", "expected"),
+    [
+        ("linear", "isolated", laws.Constant(2.0), LinearPlant),
+        ("linear", "isolated", laws.Schedule([2.0, 5.0]), LinearPlant),
+        ("linear", "rigid", None, ExudynPlant),
+        ("linear", "isolated", laws.Skyhook(200.0, 0.0, CONFIG["solver"]["time_step_s"]), ExudynPlant),
+        ("exudyn", "isolated", laws.Constant(2.0), ExudynPlant),
+    ],
+)
 def test_plant_choice(backend, mount, law, expected):
     plants = Plants({**CONFIG, "backend": backend})
     plant = plants.for_run(mount, law)
@@ -35,10 +38,14 @@ def test_study_on_the_linear_plant_matches_exudyn():
     lines = [(6.07, 0.5e-3), (7.07, 1.0e-3), (7.99, 0.8e-3)]
     y = sum(a * np.sin(2 * np.pi * f * t) for f, a in lines)
     z = sum(a * np.cos(2 * np.pi * f * t + 0.3) for f, a in lines)
-    cases = xr.Dataset({"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
-                       coords={"case": ("case", ["lines"], {"units": "1", "long_name": "case"}),
-                               "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
-                               "time": ("time", t, {"units": "s", "long_name": "time"})})
+    cases = xr.Dataset(
+        {"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
+        coords={
+            "case": ("case", ["lines"], {"units": "1", "long_name": "case"}),
+            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
+            "time": ("time", t, {"units": "s", "long_name": "time"}),
+        },
+    )
     config = load_config("quick.yaml")
     cfg = {k: v for k, v in config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
     options = study.StudyOptions.from_config({**cfg, "strategies": ["passive", "optimal_passive"]})

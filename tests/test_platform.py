@@ -286,7 +286,10 @@ def test_run_dataset_metadata():
         ({"time_step_s": 0.0}, "solver.time_step_s: must be > 0"),
         ({"stiffness_n_m": -10.0}, "isolator.stiffness_n_m: must be > 0"),
         ({"amplitude_m": -1.0}, "response.amplitude_m: must be > 0"),
-        ({"update_period_s": 1e-4}, r"platform.isolator.update_period_s: \(0.0001\) must be >= platform.solver.time_step_s"),
+        (
+            {"update_period_s": 1e-4},
+            r"platform.isolator.update_period_s: \(0.0001\) must be >= platform.solver.time_step_s",
+        ),
         ({"natural_frequencies_hz": [6.7, 5.7]}, "natural_frequencies_hz: needs 3 values"),
         ({"natural_frequencies_hz": [6.7, 6.7, 4.5]}, "natural_frequencies_hz: must be distinct"),
         ({"structural_damping_ratio": -0.1}, "structural_damping_ratio: must be >= 0"),

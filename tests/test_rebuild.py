@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 
 import pytest
-
 from conftest import snakemake
 
 # one output of each kind per producing rule (rule name, path under the quick run's folder)
@@ -27,7 +26,7 @@ OUTPUTS = [
 
 
 def _planned(output: str) -> set[str]:
-    table = output[output.index("job "):output.index("total")]
+    table = output[output.index("job ") : output.index("total")]
     return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
 
 

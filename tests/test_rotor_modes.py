@@ -68,9 +68,16 @@ def test_zero_speed_modes_equal_exudyns_eigen_analysis(heli):
     (first-order form with damping, constraints projected by SVD) are the Campbell modes at 0 rad/s."""
     still = R._with_rotor_speed(heli, 0.0)
     model = H.build(still)
-    lam = np.asarray(model.mbs.ComputeODE2Eigenvalues(
-        exu.SimulationSettings(), useSparseSolver=False, computeComplexEigenvalues=True, useAbsoluteValues=False,
-        ignoreAlgebraicEquations=False, convert2Frequencies=False)[0])
+    lam = np.asarray(
+        model.mbs.ComputeODE2Eigenvalues(
+            exu.SimulationSettings(),
+            useSparseSolver=False,
+            computeComplexEigenvalues=True,
+            useAbsoluteValues=False,
+            ignoreAlgebraicEquations=False,
+            convert2Frequencies=False,
+        )[0]
+    )
     expected = np.sort_complex(lam[lam.imag > R.RIGID_TOL_RAD_S])
     ds = R.campbell(still, [0.0])
     computed = ds.frequency.values[:, 0] * 1j - ds.decay_rate.values[:, 0]
@@ -124,8 +131,12 @@ def test_fuselage_held_cyclic_flap_and_lag_split_by_rotor_speed(heli):
     energy = np.abs(shapes) ** 2 * np.diag(m)[:, None]
     labels = R.mode_labels(shapes, (energy / energy.sum(axis=0)).T, names, freq, omega)
     for nu, dof in ((nu_f, "flap"), (nu_l, "lag")):
-        expected = {"collective": nu, "differential": nu, "cyclic 1 progressive": nu + omega,
-                    "cyclic 1 regressive": abs(nu - omega)}
+        expected = {
+            "collective": nu,
+            "differential": nu,
+            "cyclic 1 progressive": nu + omega,
+            "cyclic 1 regressive": abs(nu - omega),
+        }
         for name, target in expected.items():
             assert np.min(np.abs(freq - target)) < 0.01 * target
             if "cyclic" in name:

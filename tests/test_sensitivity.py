@@ -56,8 +56,9 @@ def test_dominant_lines_of_known_sines():
     w_rotor, w_peak = 44.4, round(50.6 / grid) * grid
     z = 1e-3 * np.sin(w_peak * t) + 4e-4 * np.sin(w_rotor * t)
     y = 1.5e-2 * np.sin(w_rotor * t) + 1e-3 * np.sin(5.0 * t)  # the 5 rad/s line is below the search band
-    run = xr.Dataset({"displacement": (("axis", "time"), np.stack([0 * t, y, z]))},
-                     coords={"axis": list(H.AXES), "time": t})
+    run = xr.Dataset(
+        {"displacement": (("axis", "time"), np.stack([0 * t, y, z]))}, coords={"axis": list(H.AXES), "time": t}
+    )
     ds = S.dominant_lines(run, rotor_omega_rad_s=w_rotor, min_omega_rad_s=20.0, zero_padding=8)
     assert float(ds.dominant_omega.sel(axis="z")) == pytest.approx(w_peak, abs=1e-9)
     assert float(ds.dominant_amplitude.sel(axis="z")) == pytest.approx(1e-3, rel=0.01)
@@ -74,8 +75,12 @@ def test_short_run_records_every_parameter(heli):
     assert ds.parameter.values.tolist() == ["lag_damping"]
     assert ds.lag_damping.values[0] == 300.0 and ds.hinge_offset.values[0] == heli.main_rotor.hinge_offset
     assert ds.fuselage_ixx_scale.values[0] == 1.0
-    both = S.combine([ds, S.run(heli, "baseline", options)], rotor_omega_rad_s=heli.main_rotor.omega_rad_s,
-                     min_omega_rad_s=20.0, zero_padding=8)
+    both = S.combine(
+        [ds, S.run(heli, "baseline", options)],
+        rotor_omega_rad_s=heli.main_rotor.omega_rad_s,
+        min_omega_rad_s=20.0,
+        zero_padding=8,
+    )
     io.check_metadata(both)
     assert both.dominant_omega.dims == ("run", "axis") and both.sizes["run"] == 2
     assert both.run.values.tolist() == ["lag_damping=300", "baseline"]

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, copy_workflow, load_config, snakemake
+
 from uavdamp import io
 
 pytestmark = pytest.mark.slurm
@@ -61,8 +61,10 @@ def slurm_cluster():
             yield cluster
         finally:
             cluster.stop()
-            print(f"[slurm cluster] up (incl. any apt install) {cluster.started_s:.1f} s; "
-                  f"start to stop {time.monotonic() - t0:.1f} s")
+            print(
+                f"[slurm cluster] up (incl. any apt install) {cluster.started_s:.1f} s; "
+                f"start to stop {time.monotonic() - t0:.1f} s"
+            )
 
 
 @pytest.fixture(scope="module")
@@ -90,17 +92,30 @@ def run_on_slurm(workdir: Path, cluster, *extra: str) -> tuple[object, dict[str,
     account and partition, and threads/CPUs/memory that fit the machine (2 chunks of 1 CPU at once).
     """
     args = [
-        "--profile", str(PROFILE), TARGET, "--configfile", "config/quick.yaml",
-        "--default-resources", "slurm_account=uavdamp_test", f"slurm_partition={cluster.partition}",
-        "mem_mb=1000", "runtime=30",
-        "--set-threads", f"reference_table_chunk={CHUNK_THREADS}",
-        "--set-resources", f"reference_table_chunk:cpus_per_task={CHUNK_THREADS}", "reference_table_chunk:mem_mb=1500",
+        "--profile",
+        str(PROFILE),
+        TARGET,
+        "--configfile",
+        "config/quick.yaml",
+        "--default-resources",
+        "slurm_account=uavdamp_test",
+        f"slurm_partition={cluster.partition}",
+        "mem_mb=1000",
+        "runtime=30",
+        "--set-threads",
+        f"reference_table_chunk={CHUNK_THREADS}",
+        "--set-resources",
+        f"reference_table_chunk:cpus_per_task={CHUNK_THREADS}",
+        "reference_table_chunk:mem_mb=1500",
         "reference_table_chunk:runtime=30",
         # no slurmdbd here: poll with squeue (the cluster keeps finished jobs for MinJobAge=300 s)
-        "--slurm-status-command", "squeue",
-        "--slurm-init-seconds-before-status-checks", "2",
+        "--slurm-status-command",
+        "squeue",
+        "--slurm-init-seconds-before-status-checks",
+        "2",
         "--slurm-keep-successful-logs",
-        "--latency-wait", "5",
+        "--latency-wait",
+        "5",
         *extra,
     ]
     t0 = time.monotonic()
@@ -163,8 +178,10 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     chunks = workdir / "reports/reference_table/chunks"
 
     # the chunk's job raises (tests/slurm/fail_chunk/sitecustomize.py, loaded by every job's Python)
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(filter(None, [str(ROOT / "tests/slurm/fail_chunk"),
-                                                                   os.environ.get("PYTHONPATH")])))
+    monkeypatch.setenv(
+        "PYTHONPATH",
+        os.pathsep.join(filter(None, [str(ROOT / "tests/slurm/fail_chunk"), os.environ.get("PYTHONPATH")])),
+    )
     monkeypatch.setenv("UAVDAMP_TEST_FAIL_CHUNK", bad)
     result, submitted, wall = run_on_slurm(workdir, slurm_cluster)
     print(f"[slurm] run with chunk {bad} failing: {wall:.1f} s")

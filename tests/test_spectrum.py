@@ -105,8 +105,10 @@ def test_tracking_is_causal():
     assert freq_junk[times == 3.0][0] == pytest.approx(10.0, rel=0.01)  # the change is seen afterwards
     # a shorter record ending at t_k gives the same number
     keep = t <= 1.5 + 1e-9
-    assert spectrum.dominant_frequency_causal(t[keep], x[keep], 1.5, 1.0, min_freq_hz=3.0, max_freq_hz=12.0) == \
-        freq[times == 1.5][0]
+    assert (
+        spectrum.dominant_frequency_causal(t[keep], x[keep], 1.5, 1.0, min_freq_hz=3.0, max_freq_hz=12.0)
+        == freq[times == 1.5][0]
+    )
 
 
 def test_sine_fit_removes_the_bias_of_a_short_window():

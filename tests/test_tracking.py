@@ -5,10 +5,19 @@ import pytest
 
 from uavdamp import spectrum, tracking
 
+
 def _options(**changes) -> tracking.TrackerOptions:
     """Tracker options: 1 s window, 3-12 Hz, 1.5 cycles, changed by keyword."""
-    values = dict(method="esprit", window=1.0, min_freq_hz=3.0, max_freq_hz=12.0, min_cycles=1.5, zero_padding=8,
-                  model_order=4, initial_freq_hz=7.07)
+    values = dict(
+        method="esprit",
+        window=1.0,
+        min_freq_hz=3.0,
+        max_freq_hz=12.0,
+        min_cycles=1.5,
+        zero_padding=8,
+        model_order=4,
+        initial_freq_hz=7.07,
+    )
     return tracking.TrackerOptions(**{**values, **changes})
 
 
@@ -60,8 +69,9 @@ def test_fft_method_is_the_spectrum_tracker_bit_for_bit():
     x = _lines(t, [(6.3, 1.0, 0.1), (9.1, 0.4, 0.2)], seed=4, snr_db=10.0)
     options = _options(method="fft")
     times, freq = tracking.track(t, x, update_period=0.5, options=options)
-    expected = spectrum.track_dominant(t, x, update_period=0.5, window=1.0, min_freq_hz=3.0, max_freq_hz=12.0,
-                                       min_cycles=1.5, zero_padding=8)
+    expected = spectrum.track_dominant(
+        t, x, update_period=0.5, window=1.0, min_freq_hz=3.0, max_freq_hz=12.0, min_cycles=1.5, zero_padding=8
+    )
     np.testing.assert_array_equal(times, expected[0])
     np.testing.assert_array_equal(freq, expected[1])
 
@@ -80,19 +90,30 @@ def test_every_method_is_causal_and_shares_the_window_semantics():
         assert freq_junk[times == 3.0][0] == pytest.approx(10.0, rel=0.01), method
 
 
-@pytest.mark.parametrize(("key", "value", "match"), [
-    ("method", "music", "study.tracking.method"),
-    ("model_order", 0, "study.tracking.model_order"),
-    ("model_order", 2.5, "study.tracking.model_order"),
-    ("window_s", -1.0, "study.tracking.window_s: must be positive"),
-    ("window_s", "long", "study.tracking.window_s: expected a finite number"),
-    ("zero_padding", 1.5, "study.tracking.zero_padding: expected an integer"),
-    ("surplus", 1, r"study.tracking: unknown key\(s\) \['surplus'\]"),
-    ("max_freq_hz", 2.0, "study.tracking.max_freq_hz"),
-])
+@pytest.mark.parametrize(
+    ("key", "value", "match"),
+    [
+        ("method", "music", "study.tracking.method"),
+        ("model_order", 0, "study.tracking.model_order"),
+        ("model_order", 2.5, "study.tracking.model_order"),
+        ("window_s", -1.0, "study.tracking.window_s: must be positive"),
+        ("window_s", "long", "study.tracking.window_s: expected a finite number"),
+        ("zero_padding", 1.5, "study.tracking.zero_padding: expected an integer"),
+        ("surplus", 1, r"study.tracking: unknown key\(s\) \['surplus'\]"),
+        ("max_freq_hz", 2.0, "study.tracking.max_freq_hz"),
+    ],
+)
 def test_bad_options_are_refused_naming_the_key(key, value, match):
-    cfg = {"method": "esprit", "window_s": 1.0, "min_freq_hz": 3.0, "max_freq_hz": 12.0, "min_cycles": 1.5,
-           "zero_padding": 8, "model_order": 10, "initial_freq_hz": 7.07}
+    cfg = {
+        "method": "esprit",
+        "window_s": 1.0,
+        "min_freq_hz": 3.0,
+        "max_freq_hz": 12.0,
+        "min_cycles": 1.5,
+        "zero_padding": 8,
+        "model_order": 10,
+        "initial_freq_hz": 7.07,
+    }
     assert tracking.TrackerOptions.from_config(cfg).model_order == 10
     with pytest.raises(ValueError, match=match):
         tracking.TrackerOptions.from_config({**cfg, key: value})

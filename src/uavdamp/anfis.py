@@ -320,8 +320,9 @@ class ANFIS(RegressorMixin, BaseEstimator):
         if X_val is not None:
             val = (_with_ones_row(np.clip((X_val - lo) / scale, 0.0, span_s)), (y_val - y_off) / y_scale)
         with threadpool_limits(limits=1, user_api="blas"):
-            best, train_rmse, val_rmse, steps = self._train(_with_ones_row(Xs), ys, val, c, s, mf_input, rule_mf,
-                                                            self.error_goal / y_scale)
+            best, train_rmse, val_rmse, steps = self._train(
+                _with_ones_row(Xs), ys, val, c, s, mf_input, rule_mf, self.error_goal / y_scale
+            )
 
         _, self.best_epoch_, c_best, s_best, P = best
         # back to original units: x = lo + scale * xs, y = y_off + y_scale * ys

@@ -181,4 +181,3 @@ def from_dataset(cls, ds: xr.Dataset):
     model.step_sizes_ = np.asarray(ds["step_size"].values, float)
     model.best_epoch_ = int(ds.attrs["best_epoch"])
     return model
-

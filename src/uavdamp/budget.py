@@ -42,17 +42,25 @@ def estimate(config: dict, grid_points: int, verify_points: int) -> dict[str, fl
     grid_duration = config["reference_table"]["duration"]
     # study: per case and K, every strategy and the best-constant search (its candidates, up to 20 refinements);
     # an upper bound: the isolated runs on the linear plant cost less than this Exudyn rate
-    study_runs = len(study["cases"]) * len(study["stiffness_n_m"]) * (
-        len(study["strategies"]) + study["optimal_candidates"] + 20)
+    study_runs = (
+        len(study["cases"])
+        * len(study["stiffness_n_m"])
+        * (len(study["strategies"]) + study["optimal_candidates"] + 20)
+    )
     cpu = {
         "grid": grid_points * per_point,
         "verification": verify_points * b.seconds_per_point_exudyn * grid_duration / 5.0,
         "helicopter": heli_s * b.helicopter_cpu_per_simulated_s,
         "study": study_runs * study["duration_s"] * b.platform_cpu_per_simulated_s,
     }
-    return {"grid_points": grid_points, "helicopter_simulated_s": heli_s, "study_runs": study_runs,
-            **{f"cpu_s_{k}": v for k, v in cpu.items()}, "cpu_s": sum(cpu.values()),
-            "max_cpu_s": 3600.0 * b.max_cpu_hours}
+    return {
+        "grid_points": grid_points,
+        "helicopter_simulated_s": heli_s,
+        "study_runs": study_runs,
+        **{f"cpu_s_{k}": v for k, v in cpu.items()},
+        "cpu_s": sum(cpu.values()),
+        "max_cpu_s": 3600.0 * b.max_cpu_hours,
+    }
 
 
 def check(config: dict, grid_points: int, verify_points: int) -> dict[str, float]:
@@ -65,11 +73,14 @@ def check(config: dict, grid_points: int, verify_points: int) -> dict[str, float
             f"{e['helicopter_simulated_s']:g} simulated s: {e['cpu_s_helicopter'] / 3600:.3g} h; study "
             f"{e['study_runs']} runs: {e['cpu_s_study'] / 3600:.3g} h), above the budget of "
             f"{e['max_cpu_s'] / 3600:g} h. To run it anyway, raise budget.max_cpu_hours in a config file "
-            "passed with --configfile")
+            "passed with --configfile"
+        )
     return e
 
 
 def summary(e: dict[str, float]) -> str:
-    return (f"uavdamp plan: {e['grid_points']:,} grid points, {e['helicopter_simulated_s']:g} simulated s of "
-            f"helicopter, {e['study_runs']} study runs: about {e['cpu_s'] / 60:.3g} CPU min "
-            f"(budget {e['max_cpu_s'] / 3600:g} h)")
+    return (
+        f"uavdamp plan: {e['grid_points']:,} grid points, {e['helicopter_simulated_s']:g} simulated s of "
+        f"helicopter, {e['study_runs']} study runs: about {e['cpu_s'] / 60:.3g} CPU min "
+        f"(budget {e['max_cpu_s'] / 3600:g} h)"
+    )

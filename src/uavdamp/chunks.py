@@ -28,9 +28,11 @@ def exclusive(path):
     try:
         lock.acquire(timeout=0)
     except Timeout:
-        raise ValueError(f"{path}: another process is writing this chunk (lock {lock.lock_file} is held): a job of "
-                         "an earlier, killed run is still running; stop it (README, 'A killed run') or let it finish, "
-                         "then run Snakemake again") from None
+        raise ValueError(
+            f"{path}: another process is writing this chunk (lock {lock.lock_file} is held): a job of "
+            "an earlier, killed run is still running; stop it (README, 'A killed run') or let it finish, "
+            "then run Snakemake again"
+        ) from None
     try:
         yield
     finally:
@@ -44,6 +46,7 @@ def rebuild_command(path) -> str:
 def load_chunk(path, *, points: np.ndarray, config: dict) -> xr.Dataset:
     """The chunk at `path`, checked: readable, over the `points` it should hold, made with `config` (the rule's
     reference_table and platform views), every criterion finite and positive where the point did not fail."""
+
     def bad(what: str) -> ValueError:
         return ValueError(f"reference-table chunk {path}: {what}; rebuild it: {rebuild_command(path)}")
 
@@ -54,7 +57,9 @@ def load_chunk(path, *, points: np.ndarray, config: dict) -> xr.Dataset:
     if "point" not in ds.dims or "failed" not in ds or not any(v.startswith("criterion") for v in ds.data_vars):
         raise bad(f"has no point dimension, failed flag or criterion (variables {sorted(ds.data_vars)})")
     if not np.array_equal(ds.point.values, np.sort(np.asarray(points))):
-        raise bad(f"holds points {ds.point.values[:5].tolist()}... , not this chunk's {np.sort(points)[:5].tolist()}...")
+        raise bad(
+            f"holds points {ds.point.values[:5].tolist()}... , not this chunk's {np.sort(points)[:5].tolist()}..."
+        )
     stored = {key: json.loads(value) for key, value in ds.attrs.items() if key == "config_reference_table"}
     if stored.get("config_reference_table") != json.loads(json.dumps(config, sort_keys=True)):
         raise bad("was made with another config than the current one")

@@ -43,8 +43,9 @@ def spectral_width_hz(signal: np.ndarray, dt: float, min_freq_hz: float, max_fre
     return float(np.sqrt(np.sum((freq[band] - centre) ** 2 * power) / np.sum(power)))
 
 
-def dominant_line_amplitude(signal: np.ndarray, dt: float, min_freq_hz: float, max_freq_hz: float, *,
-                            zero_padding: int = 16) -> float:
+def dominant_line_amplitude(
+    signal: np.ndarray, dt: float, min_freq_hz: float, max_freq_hz: float, *, zero_padding: int = 16
+) -> float:
     """Amplitude (the signal's unit) of the largest line in [min_freq_hz, max_freq_hz] Hz: the peak of the
     Hann-windowed amplitude spectrum with the window's coherent gain divided out (`spectrum.amplitude_spectrum`),
     zero-padded `zero_padding` times so that the peak lies within 1 / (2 zero_padding) bin of the line (Hann
@@ -71,8 +72,9 @@ def _case_choice(case: dict, name: str, key: str, choices: tuple[str, ...]) -> s
     return value
 
 
-def scale_factors(raw: dict[str, np.ndarray], dt: float, *, amplitude: float, reading: str, scaling: str,
-                  band_hz: tuple[float, float]) -> dict[str, float]:
+def scale_factors(
+    raw: dict[str, np.ndarray], dt: float, *, amplitude: float, reading: str, scaling: str, band_hz: tuple[float, float]
+) -> dict[str, float]:
     """Per axis, the factor that brings the high-passed `raw` signals (axis -> array) to `amplitude` under
     `reading`: "per_axis" scales every axis to it, "common" scales both by the factor of the larger reading."""
     readings = {axis: amplitude_reading(x, dt, reading, band_hz) for axis, x in raw.items()}
@@ -82,8 +84,9 @@ def scale_factors(raw: dict[str, np.ndarray], dt: float, *, amplitude: float, re
     return {axis: amplitude / value for axis, value in readings.items()}
 
 
-def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, highpass_hz: float,
-                  band_hz: tuple[float, float]) -> xr.Dataset:
+def cases_dataset(
+    runs: dict[str, xr.Dataset], cases: dict, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]
+) -> xr.Dataset:
     """The study's inputs: `mount_displacement` (case, axis, time), m, one case per entry of `cases`
     ({name: {"run": run name, "amplitude": m, "amplitude_reading": "peak" | "dominant",
     "amplitude_scaling": "per_axis" | "common", "description": text}}), plus per case and axis the
@@ -95,8 +98,7 @@ def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, 
     for name in names:
         case = cases[name]
         if case["run"] not in runs:
-            raise ValueError(f"study.cases.{name}.run: unknown helicopter run {case['run']!r} "
-                             f"(known: {sorted(runs)})")
+            raise ValueError(f"study.cases.{name}.run: unknown helicopter run {case['run']!r} (known: {sorted(runs)})")
         reading = _case_choice(case, name, "amplitude_reading", READINGS)
         scaling = _case_choice(case, name, "amplitude_scaling", SCALINGS)
         run = runs[case["run"]]
@@ -106,8 +108,9 @@ def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, 
             raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s)")
         dt = float(np.mean(np.diff(t)))
         raw = {axis: high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
-        factors = scale_factors(raw, dt, amplitude=float(case["amplitude"]), reading=reading, scaling=scaling,
-                                band_hz=band_hz)
+        factors = scale_factors(
+            raw, dt, amplitude=float(case["amplitude"]), reading=reading, scaling=scaling, band_hz=band_hz
+        )
         rows = []
         for axis in AXES:
             rows.append(factors[axis] * raw[axis])
@@ -122,24 +125,51 @@ def cases_dataset(runs: dict[str, xr.Dataset], cases: dict, *, duration: float, 
     shape = (len(names), len(AXES))
     return xr.Dataset(
         {
-            "mount_displacement": (("case", "axis", "time"), np.asarray(signals),
-                                   {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"}),
-            "scale": (("case", "axis"), np.reshape(scale, shape),
-                      {"units": "1", "long_name": "factor from the high-passed helicopter signal to the input"}),
-            "dominant_freq": (("case", "axis"), np.reshape(dominant, shape),
-                              {"units": "Hz", "long_name": "dominant frequency of the whole input"}),
-            "spectral_width": (("case", "axis"), np.reshape(width, shape),
-                               {"units": "Hz", "long_name": "RMS width of the input's power spectrum in the band"}),
-            "dominant_amplitude": (("case", "axis"), np.reshape(line, shape),
-                                   {"units": "m", "long_name": "amplitude of the input's dominant line in the band"}),
-            "amplitude": ("case", [float(cases[n]["amplitude"]) for n in names],
-                          {"units": "m", "long_name": "input amplitude as read by amplitude_reading"}),
-            "amplitude_reading": ("case", [cases[n]["amplitude_reading"] for n in names],
-                                  {"units": "1", "long_name": "reading of the amplitude: peak or dominant line"}),
-            "amplitude_scaling": ("case", [cases[n]["amplitude_scaling"] for n in names],
-                                  {"units": "1", "long_name": "scaling: per axis or one factor for both axes"}),
-            "description": ("case", [str(cases[n].get("description", "")) for n in names],
-                            {"units": "1", "long_name": "case description"}),
+            "mount_displacement": (
+                ("case", "axis", "time"),
+                np.asarray(signals),
+                {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"},
+            ),
+            "scale": (
+                ("case", "axis"),
+                np.reshape(scale, shape),
+                {"units": "1", "long_name": "factor from the high-passed helicopter signal to the input"},
+            ),
+            "dominant_freq": (
+                ("case", "axis"),
+                np.reshape(dominant, shape),
+                {"units": "Hz", "long_name": "dominant frequency of the whole input"},
+            ),
+            "spectral_width": (
+                ("case", "axis"),
+                np.reshape(width, shape),
+                {"units": "Hz", "long_name": "RMS width of the input's power spectrum in the band"},
+            ),
+            "dominant_amplitude": (
+                ("case", "axis"),
+                np.reshape(line, shape),
+                {"units": "m", "long_name": "amplitude of the input's dominant line in the band"},
+            ),
+            "amplitude": (
+                "case",
+                [float(cases[n]["amplitude"]) for n in names],
+                {"units": "m", "long_name": "input amplitude as read by amplitude_reading"},
+            ),
+            "amplitude_reading": (
+                "case",
+                [cases[n]["amplitude_reading"] for n in names],
+                {"units": "1", "long_name": "reading of the amplitude: peak or dominant line"},
+            ),
+            "amplitude_scaling": (
+                "case",
+                [cases[n]["amplitude_scaling"] for n in names],
+                {"units": "1", "long_name": "scaling: per axis or one factor for both axes"},
+            ),
+            "description": (
+                "case",
+                [str(cases[n].get("description", "")) for n in names],
+                {"units": "1", "long_name": "case description"},
+            ),
         },
         coords={
             "case": ("case", names, {"units": "1", "long_name": "input case"}),

@@ -33,8 +33,9 @@ def monodromy(heli: H.Helicopter, n_steps: int = 360) -> np.ndarray:
     if omega <= 0:
         raise ValueError(f"main_rotor.omega_rad_s: {omega}; a Floquet analysis needs a turning rotor")
     if heli.tail_rotor.omega_rad_s != 0.0:
-        raise ValueError(f"tail_rotor.omega_rad_s: {heli.tail_rotor.omega_rad_s}; the tail rotor must be stopped "
-                         "(a second period)")
+        raise ValueError(
+            f"tail_rotor.omega_rad_s: {heli.tail_rotor.omega_rad_s}; the tail rotor must be stopped (a second period)"
+        )
     if n_steps < 8:
         raise ValueError(f"n_steps: {n_steps}; at least 8 azimuth steps per revolution")
     model = H.build(heli)
@@ -70,12 +71,17 @@ def floquet_dataset(heli: H.Helicopter, n_steps: int = 360) -> xr.Dataset:
     dimension `exponent`: frequency modulo Omega (rad s-1) and decay rate (s-1)."""
     s = floquet_exponents(heli, n_steps)
     s = s[s.imag >= 0]
-    attrs = {"units": "rad s-1", "long_name": "Floquet exponent imaginary part (angular frequency modulo the "
-             f"rotor speed, in [0, Omega/2]), main blade {heli.imbalanced_blade} at mass factor "
-             f"{heli.imbalance_mass_factor}"}
+    attrs = {
+        "units": "rad s-1",
+        "long_name": "Floquet exponent imaginary part (angular frequency modulo the "
+        f"rotor speed, in [0, Omega/2]), main blade {heli.imbalanced_blade} at mass factor "
+        f"{heli.imbalance_mass_factor}",
+    }
     return xr.Dataset(
-        {"floquet_frequency": ("exponent", s.imag, attrs),
-         "floquet_decay_rate": ("exponent", -s.real, {"units": "s-1", "long_name": "Floquet exponent -Re(s)"})},
+        {
+            "floquet_frequency": ("exponent", s.imag, attrs),
+            "floquet_decay_rate": ("exponent", -s.real, {"units": "s-1", "long_name": "Floquet exponent -Re(s)"}),
+        },
         coords={"exponent": ("exponent", np.arange(s.size), {"units": "1", "long_name": "Floquet exponent number"})},
         attrs={"floquet_azimuth_steps": n_steps},
     )

@@ -121,8 +121,10 @@ class Helicopter:
         for key, rotor in (("main_rotor", main), ("tail_rotor", tail)):
             gyration = np.sqrt(max(rotor.blade_inertia) / rotor.blade_mass)
             if gyration > rotor.blade_length:
-                raise ValueError(f"helicopter.{key}.blade_inertia: {max(rotor.blade_inertia)} kg m2 gives a radius of "
-                                 f"gyration {gyration:.3g} m longer than the blade ({rotor.blade_length} m)")
+                raise ValueError(
+                    f"helicopter.{key}.blade_inertia: {max(rotor.blade_inertia)} kg m2 gives a radius of "
+                    f"gyration {gyration:.3g} m longer than the blade ({rotor.blade_length} m)"
+                )
 
     def balanced(self) -> Helicopter:
         """The same helicopter with every main blade at its nominal mass."""
@@ -171,8 +173,10 @@ class SolverOptions:
     def __post_init__(self):
         ratio = self.output_step / self.step
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
-            raise ValueError(f"solver.output_step: {self.output_step} s must be a whole multiple of "
-                             f"solver.step {self.step} s (uniform sampling for the FFT)")
+            raise ValueError(
+                f"solver.output_step: {self.output_step} s must be a whole multiple of "
+                f"solver.step {self.step} s (uniform sampling for the FFT)"
+            )
 
     @classmethod
     def from_config(cls, cfg: dict) -> SolverOptions:
@@ -202,8 +206,12 @@ def _blade_link_inertia(mass: float, length: float, inertia: tuple, scale: float
     `scale` multiplies mass and inertia (a uniform change of density).
     """
     ix, iy, iz = inertia
-    return RigidBodyInertia(mass=scale * mass, inertiaTensor=scale * np.diag([iy, ix, iz]),
-                            com=[length / 2, 0.0, 0.0], inertiaTensorAtCOM=True)
+    return RigidBodyInertia(
+        mass=scale * mass,
+        inertiaTensor=scale * np.diag([iy, ix, iz]),
+        com=[length / 2, 0.0, 0.0],
+        inertiaTensorAtCOM=True,
+    )
 
 
 def _tail_hub_inertia(tail: TailRotor) -> RigidBodyInertia:
@@ -234,8 +242,10 @@ def tree_links(heli: Helicopter) -> list[TreeLink]:
         ht = exu.HT(np.eye(3) if rotation is None else rotation, [0.0, 0.0, 0.0] if offset is None else list(offset))
         return TreeLink(inertia, joint, jointHT=ht, parent=parent, PDcontrol=pd, graphicsDataList=[])
 
-    links = [link(none, joint, k - 1) for k, joint in enumerate(
-        [jt.PrismaticX, jt.PrismaticY, jt.PrismaticZ, jt.RevoluteX, jt.RevoluteY])]
+    links = [
+        link(none, joint, k - 1)
+        for k, joint in enumerate([jt.PrismaticX, jt.PrismaticY, jt.PrismaticZ, jt.RevoluteX, jt.RevoluteY])
+    ]
     links.append(link(fuselage, jt.RevoluteZ, 4))
     links.append(link(none, jt.RevoluteZ, FUSELAGE_LINK, offset=[0.0, 0.0, main.hub_height]))
     scales = heli.blade_masses() / main.blade_mass
@@ -243,8 +253,16 @@ def tree_links(heli: Helicopter) -> list[TreeLink]:
         psi = 2 * np.pi * k / main.n_blades
         hinge = main.hinge_offset * np.array([np.cos(psi), np.sin(psi), 0.0])
         flap = len(links)
-        links.append(link(none, jt.RevoluteY, HUB_LINK, offset=hinge, rotation=RotationMatrixZ(psi),
-                          pd=(main.flap_stiffness, main.flap_damping)))
+        links.append(
+            link(
+                none,
+                jt.RevoluteY,
+                HUB_LINK,
+                offset=hinge,
+                rotation=RotationMatrixZ(psi),
+                pd=(main.flap_stiffness, main.flap_damping),
+            )
+        )
         links.append(link(none, jt.RevoluteZ, flap, pd=(main.lag_stiffness, main.lag_damping)))
         blade = _blade_link_inertia(main.blade_mass, main.blade_length, main.blade_inertia, scales[k])
         links.append(link(blade, jt.RevoluteX, flap + 1, pd=(main.feather_stiffness, main.feather_damping)))
@@ -302,8 +320,11 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
     def hold(coordinate: int, speed: float | None) -> None:
         """Coordinate held at its initial value (speed None) or turning at `speed` rad/s exactly."""
         marker = mbs.AddMarker(eii.MarkerNodeCoordinate(nodeNumber=node, coordinate=coordinate))
-        mbs.AddObject(eii.CoordinateConstraint(markerNumbers=[ground, marker], offset=speed or 0.0,
-                                               velocityLevel=speed is not None))
+        mbs.AddObject(
+            eii.CoordinateConstraint(
+                markerNumbers=[ground, marker], offset=speed or 0.0, velocityLevel=speed is not None
+            )
+        )
 
     hold(HUB_LINK, heli.main_rotor.omega_rad_s)
     hold(len(links) - 1, heli.tail_rotor.omega_rad_s)
@@ -312,15 +333,27 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
             hold(coordinate, None)
 
     def tree_sensor(link_number, position, output):
-        return mbs.AddSensor(eii.SensorKinematicTree(objectNumber=tree, linkNumber=link_number,
-                                                     localPosition=list(position), outputVariableType=output,
-                                                     storeInternal=True, writeToFile=False))
+        return mbs.AddSensor(
+            eii.SensorKinematicTree(
+                objectNumber=tree,
+                linkNumber=link_number,
+                localPosition=list(position),
+                outputVariableType=output,
+                storeInternal=True,
+                writeToFile=False,
+            )
+        )
 
     sensors = {
         "mount": tree_sensor(FUSELAGE_LINK, heli.mount_point, exu.OutputVariableType.Position),
-        "coordinates": mbs.AddSensor(eii.SensorNode(nodeNumber=node,
-                                                    outputVariableType=exu.OutputVariableType.Coordinates,
-                                                    storeInternal=True, writeToFile=False)),
+        "coordinates": mbs.AddSensor(
+            eii.SensorNode(
+                nodeNumber=node,
+                outputVariableType=exu.OutputVariableType.Coordinates,
+                storeInternal=True,
+                writeToFile=False,
+            )
+        ),
     }
     masses = {k: lk.linkInertia.Mass() for k, lk in enumerate(links) if lk.linkInertia.Mass() > 0}
     if momentum_sensors:
@@ -337,6 +370,7 @@ def solve(model: Model, options: SolverOptions, progress: str | None = None) -> 
     """
     shown = bar(options.duration, progress, "s") if progress else None
     if shown is not None and not shown.disable:  # a per-step call only when the bar is on screen
+
         def advance(mbs, t):
             if t - shown.n >= 0.1:
                 shown.update(t - shown.n)
@@ -373,17 +407,25 @@ def run(heli: Helicopter, options: SolverOptions, progress: str | None = None) -
     time = mount[:, 0]
     angle_error = float(q[-1, 1 + HUB_LINK] - heli.main_rotor.omega_rad_s * time[-1])
     ds = xr.Dataset(
-        {"displacement": (("axis", "time"), (mount[:, 1:4] - mount[0, 1:4]).T,
-                          {"units": "m", "long_name": "platform mount point displacement, inertial frame"})},
-        coords={"axis": ("axis", list(AXES), {"units": "1", "long_name": "axis (x forward, y left, z up)"}),
-                "time": ("time", time, {"units": "s", "long_name": "simulation time"})},
+        {
+            "displacement": (
+                ("axis", "time"),
+                (mount[:, 1:4] - mount[0, 1:4]).T,
+                {"units": "m", "long_name": "platform mount point displacement, inertial frame"},
+            )
+        },
+        coords={
+            "axis": ("axis", list(AXES), {"units": "1", "long_name": "axis (x forward, y left, z up)"}),
+            "time": ("time", time, {"units": "s", "long_name": "simulation time"}),
+        },
         attrs={"rotor_angle_error_rad": angle_error, **stats},
     )
     return ds
 
 
-def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], *, min_omega_rad_s: float,
-              zero_padding: int) -> xr.Dataset:
+def vibration(
+    heli: Helicopter, runs: dict[str, xr.Dataset], *, min_omega_rad_s: float, zero_padding: int
+) -> xr.Dataset:
     """Combine runs keyed by rotor state ("balanced", "imbalanced") with their spectra.
 
     Adds the amplitude spectrum of each axis (Hann window, `zero_padding` times the length) and the
@@ -404,20 +446,35 @@ def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], *, min_omega_rad_s:
             signal = ds.displacement.sel(rotor=r, axis=a).values
             freq_hz, spec = spectrum.amplitude_spectrum(signal, dt, zero_padding=zero_padding)
             amp.append(spec)
-            dominant[i, j] = 2 * np.pi * spectrum.dominant_frequency(
-                signal, dt, min_freq_hz=min_omega_rad_s / (2 * np.pi), zero_padding=zero_padding)
+            dominant[i, j] = (
+                2
+                * np.pi
+                * spectrum.dominant_frequency(
+                    signal, dt, min_freq_hz=min_omega_rad_s / (2 * np.pi), zero_padding=zero_padding
+                )
+            )
     amp = np.reshape(amp, (len(rotors), len(AXES), -1))
     ds = ds.assign_coords(omega=("omega", 2 * np.pi * freq_hz, {"units": "rad s-1", "long_name": "angular frequency"}))
-    ds["amplitude_spectrum"] = (("rotor", "axis", "omega"), amp,
-                                {"units": "m",
-                                 "long_name": "single-sided amplitude spectrum of the displacement (Hann window)"})
-    ds["dominant_omega"] = (("rotor", "axis"), dominant,
-                            {"units": "rad s-1",
-                             "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"})
-    ds["rotor_angle_error"] = ("rotor", [runs[r].attrs["rotor_angle_error_rad"] for r in rotors],
-                               {"units": "rad", "long_name": "main rotor angle minus Omega t at the end of the run"})
-    ds["mass_imbalance_factor"] = ("rotor", [1.0 if r == "balanced" else heli.imbalance_mass_factor for r in rotors],
-                                   {"units": "1", "long_name": "mass scale of the imbalanced blade"})
+    ds["amplitude_spectrum"] = (
+        ("rotor", "axis", "omega"),
+        amp,
+        {"units": "m", "long_name": "single-sided amplitude spectrum of the displacement (Hann window)"},
+    )
+    ds["dominant_omega"] = (
+        ("rotor", "axis"),
+        dominant,
+        {"units": "rad s-1", "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"},
+    )
+    ds["rotor_angle_error"] = (
+        "rotor",
+        [runs[r].attrs["rotor_angle_error_rad"] for r in rotors],
+        {"units": "rad", "long_name": "main rotor angle minus Omega t at the end of the run"},
+    )
+    ds["mass_imbalance_factor"] = (
+        "rotor",
+        [1.0 if r == "balanced" else heli.imbalance_mass_factor for r in rotors],
+        {"units": "1", "long_name": "mass scale of the imbalanced blade"},
+    )
     return ds
 
 
@@ -428,6 +485,7 @@ def blade_frequencies(heli: Helicopter) -> np.ndarray:
     included; the hub coordinates are removed by their constraints.
     """
     model = build(heli, fix_fuselage=True)
-    eig, _ = model.mbs.ComputeODE2Eigenvalues(exu.SimulationSettings(), useSparseSolver=False,
-                                              ignoreAlgebraicEquations=False)
+    eig, _ = model.mbs.ComputeODE2Eigenvalues(
+        exu.SimulationSettings(), useSparseSolver=False, ignoreAlgebraicEquations=False
+    )
     return np.sort(np.sqrt(np.abs(np.asarray(eig))))

@@ -197,11 +197,23 @@ def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[
     jitter = float(np.sqrt(np.mean(step**2))) if step.size else float("nan")
     scatter = float(np.sqrt(np.var(frames.centroid_px, axis=0).sum()))
     return {
-        "blur_median": (float(np.median(blur)), "1", "median over frames of the smear extent during the exposure (pixels)"),
+        "blur_median": (
+            float(np.median(blur)),
+            "1",
+            "median over frames of the smear extent during the exposure (pixels)",
+        ),
         "blur_p95": (float(np.percentile(blur, 95)), "1", "95th percentile over frames of the smear extent (pixels)"),
         "blur_max": (float(blur.max()), "1", "largest smear extent of a frame (pixels)"),
-        "blur_path_median": (float(np.median(frames.path_px)), "1", "median over frames of the image path length (pixels)"),
-        "blur_path_p95": (float(np.percentile(frames.path_px, 95)), "1", "95th percentile of the image path length (pixels)"),
+        "blur_path_median": (
+            float(np.median(frames.path_px)),
+            "1",
+            "median over frames of the image path length (pixels)",
+        ),
+        "blur_path_p95": (
+            float(np.percentile(frames.path_px, 95)),
+            "1",
+            "95th percentile of the image path length (pixels)",
+        ),
         "sharp_fraction": (
             float(np.mean(blur <= sharp_threshold_px)),
             "1",

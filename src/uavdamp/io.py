@@ -6,7 +6,7 @@ import json
 import os
 import sys
 import tempfile
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
 
@@ -85,7 +85,7 @@ def with_provenance(ds: xr.Dataset, config: dict, *, section: str, command: str 
     `config_<section>`); `command` defaults to the running process's command line.
     """
     command = command if command is not None else " ".join([Path(sys.argv[0]).name, *sys.argv[1:]])
-    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    stamp = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     out = ds.copy()
     if "time" in out.coords and out["time"].attrs.get("units") == "s":
         out["time"].attrs.update(
@@ -127,8 +127,9 @@ def write_netcdf(
     """
     check_metadata(ds)
     out = with_provenance(ds, config, section=section, command=command)
-    return atomic_write(path, lambda tmp: out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
-                                                         encoding=_encoding(out)))
+    return atomic_write(
+        path, lambda tmp: out.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=_encoding(out))
+    )
 
 
 def open_dataset(path: str | os.PathLike) -> xr.Dataset:

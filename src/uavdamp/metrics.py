@@ -9,7 +9,8 @@ concatenates them with xarray. Adding a metric is one function with ``@register(
     std_settled        the same after settle_s (paper: "both converge after about 1 s"), per axis, m
     energy_dissipated  energy the damper dissipated, sum over axes of the integral of C v_rel^2 dt, J
     image              line of sight and image blur over the run (`uavdamp.image_quality`; needs options.camera):
-                       los_* (rad), blur_* (pixels, units "1": UDUNITS has no pixel), sharp_fraction, mtf_nyquist_median, frame_blur (frame) px
+                       los_* (rad), blur_* (pixels, units "1": UDUNITS has no pixel), sharp_fraction,
+                       mtf_nyquist_median, frame_blur (frame, pixels)
 
 A metric may also return a Dataset: a group of named values computed together.
 """
@@ -57,8 +58,9 @@ def peak_early(response: xr.Dataset, options) -> xr.DataArray:
 
 @register("std_total")
 def std_total(response: xr.Dataset, options) -> xr.DataArray:
-    return _named(response.camera_displacement.std("time"), "m",
-                  "standard deviation of the camera displacement, whole run")
+    return _named(
+        response.camera_displacement.std("time"), "m", "standard deviation of the camera displacement, whole run"
+    )
 
 
 @register("std_settled")
@@ -83,12 +85,27 @@ def image(response: xr.Dataset, options) -> xr.Dataset:
     camera = getattr(options, "camera", None)
     if camera is None:
         return xr.Dataset()
-    args = (response.time.values, response.camera_displacement.values, response.camera_yaw.values,
-            response.camera_pitch.values, camera)
+    args = (
+        response.time.values,
+        response.camera_displacement.values,
+        response.camera_yaw.values,
+        response.camera_pitch.values,
+        camera,
+    )
     values = image_quality.image_metrics(*args)
     frames = image_quality.frame_metrics(*args)
-    out = xr.Dataset({name: ((), value, {"units": units, "long_name": long_name})
-                      for name, (value, units, long_name) in values.items()})
-    out["frame_blur"] = ("frame", frames.blur_px, {"units": "1", "long_name": "blur of each frame: extent of the "
-                                                   "image path of the scene point during the exposure (pixels)"})
+    out = xr.Dataset(
+        {
+            name: ((), value, {"units": units, "long_name": long_name})
+            for name, (value, units, long_name) in values.items()
+        }
+    )
+    out["frame_blur"] = (
+        "frame",
+        frames.blur_px,
+        {
+            "units": "1",
+            "long_name": "blur of each frame: extent of the image path of the scene point during the exposure (pixels)",
+        },
+    )
     return out.assign_coords(frame=("frame", frames.start_s, {"units": "s", "long_name": "frame start time"}))

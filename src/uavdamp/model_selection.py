@@ -80,19 +80,34 @@ def cross_validate(
     record = xr.Dataset(
         {
             "cv_rmse": (("candidate", "fold"), rmse, {"units": units, "long_name": f"cross-validated RMSE of {name}"}),
-            "cv_rmse_mean": ("candidate", mean,
-                             {"units": units, "long_name": f"mean over folds of the RMSE of {name}"}),
-            "cv_rmse_std": ("candidate", rmse.std(axis=1),
-                            {"units": units, "long_name": f"standard deviation over folds of the RMSE of {name}"}),
+            "cv_rmse_mean": (
+                "candidate",
+                mean,
+                {"units": units, "long_name": f"mean over folds of the RMSE of {name}"},
+            ),
+            "cv_rmse_std": (
+                "candidate",
+                rmse.std(axis=1),
+                {"units": units, "long_name": f"standard deviation over folds of the RMSE of {name}"},
+            ),
         },
         coords={
-            "candidate": ("candidate", np.arange(1, len(candidates) + 1),
-                          {"units": "1", "long_name": "candidate number"}),
-            "candidate_label": ("candidate", np.array([label(c) for c in candidates], dtype=object),
-                                {"units": "1", "long_name": "ANFIS structure of the candidate"}),
+            "candidate": (
+                "candidate",
+                np.arange(1, len(candidates) + 1),
+                {"units": "1", "long_name": "candidate number"},
+            ),
+            "candidate_label": (
+                "candidate",
+                np.array([label(c) for c in candidates], dtype=object),
+                {"units": "1", "long_name": "ANFIS structure of the candidate"},
+            ),
             "fold": ("fold", np.arange(1, folds + 1), {"units": "1", "long_name": "cross-validation fold"}),
         },
-        attrs={"selected_candidate": label(candidates[best]), "selected_params": json.dumps(candidates[best]),
-               "cv_folds": folds},
+        attrs={
+            "selected_candidate": label(candidates[best]),
+            "selected_params": json.dumps(candidates[best]),
+            "cv_folds": folds,
+        },
     )
     return candidates[best], record, np.asarray(res["mean_fit_time"])[order]

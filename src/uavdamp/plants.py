@@ -23,7 +23,7 @@ class Plants:
         self._built: dict[tuple[str, str], object] = {}
 
     def kind(self, mount: str, law) -> str:
-        """"linear" or "exudyn" for a run of `law` on `mount`."""
+        """ "linear" or "exudyn" for a run of `law` on `mount`."""
         every_step = law is not None and getattr(law, "update_period", None) == self.params.time_step
         if mount == "rigid" or every_step or self.params.backend == "exudyn":
             return "exudyn"

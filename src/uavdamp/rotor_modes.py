@@ -40,13 +40,15 @@ def multiblade_matrix(n_blades: int, psi: float) -> tuple[np.ndarray, np.ndarray
     psi_k = psi + 2 pi k / N. Square and invertible for N >= 3.
     """
     if n_blades < 3:
-        raise ValueError(f"main_rotor.n_blades: {n_blades}; the multiblade transform needs an isotropic rotor "
-                         "of at least 3 blades (a 2-blade rotor stays periodic)")
+        raise ValueError(
+            f"main_rotor.n_blades: {n_blades}; the multiblade transform needs an isotropic rotor "
+            "of at least 3 blades (a 2-blade rotor stays periodic)"
+        )
     psi_k = psi + 2 * np.pi * np.arange(n_blades) / n_blades
     cols = [[np.ones(n_blades), np.zeros(n_blades), np.zeros(n_blades)]]
     for n in range(1, (n_blades - 1) // 2 + 1):
         c, s = np.cos(n * psi_k), np.sin(n * psi_k)
-        cols += [[c, -n * s, -n**2 * c], [s, n * c, -n**2 * s]]
+        cols += [[c, -n * s, -(n**2) * c], [s, n * c, -(n**2) * s]]
     if n_blades % 2 == 0:
         cols.append([(-1.0) ** np.arange(n_blades), np.zeros(n_blades), np.zeros(n_blades)])
     return tuple(np.stack([col[d] for col in cols], axis=1) for d in range(3))
@@ -92,19 +94,25 @@ def linearise(model: H.Model, heli: H.Helicopter, psi: float, held: list[int]):
         mbs.systemData.SetODE2Coordinates_t(v, configuration=config)
     # coordinate constraints only: their nullspace is the other coordinates, so delete rows and columns
     # (Exudyn's SVD projection would return an arbitrary basis and lose the coordinates' identity)
-    m, k, d = (np.asarray(a) for a in mbs.ComputeLinearizedSystem(exu.SimulationSettings(),
-                                                                  projectIntoConstraintNullspace=False)[:3])
+    m, k, d = (
+        np.asarray(a)
+        for a in mbs.ComputeLinearizedSystem(exu.SimulationSettings(), projectIntoConstraintNullspace=False)[:3]
+    )
     free = np.setdiff1d(np.arange(n), held)
     return tuple(a[np.ix_(free, free)] for a in (m, k, d))
 
 
 def _check_isotropic(heli: H.Helicopter) -> None:
     if heli.imbalance_mass_factor != 1.0:
-        raise ValueError("imbalance.mass_factor: the multiblade analysis needs the balanced rotor "
-                         f"(got {heli.imbalance_mass_factor}); use Helicopter.balanced()")
+        raise ValueError(
+            "imbalance.mass_factor: the multiblade analysis needs the balanced rotor "
+            f"(got {heli.imbalance_mass_factor}); use Helicopter.balanced()"
+        )
     if heli.tail_rotor.omega_rad_s != 0.0 and heli.tail_rotor.n_blades < 3:
-        raise ValueError(f"tail_rotor.omega_rad_s: {heli.tail_rotor.omega_rad_s}; a turning "
-                         f"{heli.tail_rotor.n_blades}-blade tail rotor makes the system periodic: stop it (0)")
+        raise ValueError(
+            f"tail_rotor.omega_rad_s: {heli.tail_rotor.omega_rad_s}; a turning "
+            f"{heli.tail_rotor.n_blades}-blade tail rotor makes the system periodic: stop it (0)"
+        )
 
 
 def multiblade_system(heli: H.Helicopter, psi: float = 0.0, *, fix_fuselage: bool = False):
@@ -125,7 +133,7 @@ def multiblade_system(heli: H.Helicopter, psi: float = 0.0, *, fix_fuselage: boo
     mz = t_inv @ m @ t
     dz = t_inv @ (d @ t + 2 * omega * m @ t1)
     kz = t_inv @ (k @ t + omega * d @ t1 + omega**2 * m @ t2)
-    names = multiblade_names(heli.main_rotor.n_blades)[6 - n_fuselage:]
+    names = multiblade_names(heli.main_rotor.n_blades)[6 - n_fuselage :]
     return (mz, dz, kz), names
 
 
@@ -148,8 +156,10 @@ def modes(m: np.ndarray, d: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.n
     real = lam[(np.abs(lam.imag) <= RIGID_TOL_RAD_S) & (lam != 0)].real
     n_over = n - oscillating.size - n_zero
     if n_over < 0 or n_over > real.size:
-        raise RuntimeError(f"mode selection: {oscillating.size} oscillating, {n_zero} zero and {real.size} real "
-                           f"roots do not make {n} degrees of freedom")
+        raise RuntimeError(
+            f"mode selection: {oscillating.size} oscillating, {n_zero} zero and {real.size} real "
+            f"roots do not make {n} degrees of freedom"
+        )
     slow = real[np.argsort(np.abs(real), kind="stable")][:n_over]
     lam = np.concatenate([oscillating, np.zeros(n_zero), slow]).astype(complex)
     lam = lam[np.lexsort((-lam.real, lam.imag))]
@@ -180,8 +190,9 @@ def mac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return cross / np.maximum(norm, np.finfo(float).tiny)
 
 
-def track(shapes: list[np.ndarray], start: int, eigenvalues: list[np.ndarray] | None = None
-          ) -> tuple[np.ndarray, np.ndarray]:
+def track(
+    shapes: list[np.ndarray], start: int, eigenvalues: list[np.ndarray] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Follow modes across steps by MAC, outward from step `start` (whose order defines the mode numbers).
 
     Matches are one-to-one, minimising the summed (1 - MAC) plus, when `eigenvalues` (1/s, per step) are
@@ -209,8 +220,9 @@ def track(shapes: list[np.ndarray], start: int, eigenvalues: list[np.ndarray] | 
     return order, score
 
 
-def mode_labels(shapes: np.ndarray, share: np.ndarray, names: list[str], frequency: np.ndarray, omega: float,
-                second: float = 0.25) -> list[str]:
+def mode_labels(
+    shapes: np.ndarray, share: np.ndarray, names: list[str], frequency: np.ndarray, omega: float, second: float = 0.25
+) -> list[str]:
     """A name per mode (columns of `shapes`; energy `share` (mode, coordinate); fixed-frame `frequency`, rad/s,
     at rotor speed `omega`): its largest coordinate group (a cyclic cos/sin pair counts as one, with its
     branch), and the second group after " + " when that holds more than `second` of the energy."""
@@ -221,14 +233,17 @@ def mode_labels(shapes: np.ndarray, share: np.ndarray, names: list[str], frequen
     for mode in range(shapes.shape[1]):
         energy = {g: share[mode, idx].sum() for g, idx in groups.items()}
         ranked = sorted(energy, key=energy.get, reverse=True)
-        parts = [g + _branch(shapes[groups[g], mode], frequency[mode], omega) if len(groups[g]) == 2 else g
-                 for g in ranked[:2] if g == ranked[0] or energy[g] > second]
+        parts = [
+            g + _branch(shapes[groups[g], mode], frequency[mode], omega) if len(groups[g]) == 2 else g
+            for g in ranked[:2]
+            if g == ranked[0] or energy[g] > second
+        ]
         labels.append(" + ".join(parts))
     return labels
 
 
 def _branch(cos_sin: np.ndarray, frequency: float, omega: float) -> str:
-    """" progressive" (nu + Omega: whirls with the rotor, above Omega) or " regressive" (|nu - Omega|) for the
+    """ " progressive" (nu + Omega: whirls with the rotor, above Omega) or " regressive" (|nu - Omega|) for the
     cos and sin amplitudes (a_c, a_s) of a mode exp(i w t): it whirls with the rotor when Im(conj(a_c) a_s) < 0
     (a_s = -i a_c)."""
     with_rotor = np.imag(np.conj(cos_sin[0]) * cos_sin[1]) < 0
@@ -284,23 +299,52 @@ def campbell(heli: H.Helicopter, rotor_speeds_rad_s, *, check_azimuths_rad=(0.4,
     return xr.Dataset(
         {
             "frequency": (dims, lam.imag, {"units": "rad s-1", "long_name": "modal angular frequency, fixed frame"}),
-            "frequency_hz": (dims, lam.imag / (2 * np.pi), {"units": "Hz",
-                                                             "long_name": "modal frequency, fixed frame"}),
-            "damping_ratio": (dims, damping, {"units": "1", "long_name": "modal damping ratio -Re(s)/|s| "
-                                              "(NaN for a rigid-body zero root)"}),
+            "frequency_hz": (
+                dims,
+                lam.imag / (2 * np.pi),
+                {"units": "Hz", "long_name": "modal frequency, fixed frame"},
+            ),
+            "damping_ratio": (
+                dims,
+                damping,
+                {"units": "1", "long_name": "modal damping ratio -Re(s)/|s| (NaN for a rigid-body zero root)"},
+            ),
             "decay_rate": (dims, -lam.real, {"units": "s-1", "long_name": "modal decay rate -Re(s)"}),
-            "mac": (dims, score.T, {"units": "1", "long_name": "modal assurance criterion of the match with the "
-                                    "neighbouring rotor speed towards the nominal one"}),
-            "energy_share": (dims + ("coordinate",), share, {"units": "1", "long_name": "share of the mode's "
-                             "kinetic energy in each multiblade coordinate (diagonal of the mass matrix)"}),
-            "periodicity_residual": ("rotor_speed", residual, {"units": "1", "long_name": "largest relative change "
-                                     "of the multiblade matrices with rotor azimuth"}),
+            "mac": (
+                dims,
+                score.T,
+                {
+                    "units": "1",
+                    "long_name": "modal assurance criterion of the match with the "
+                    "neighbouring rotor speed towards the nominal one",
+                },
+            ),
+            "energy_share": (
+                dims + ("coordinate",),
+                share,
+                {
+                    "units": "1",
+                    "long_name": "share of the mode's "
+                    "kinetic energy in each multiblade coordinate (diagonal of the mass matrix)",
+                },
+            ),
+            "periodicity_residual": (
+                "rotor_speed",
+                residual,
+                {"units": "1", "long_name": "largest relative change of the multiblade matrices with rotor azimuth"},
+            ),
         },
         coords={
-            "mode": ("mode", np.arange(lam.shape[0]), {"units": "1", "long_name": "mode number (by frequency at "
-                                                       "the nominal rotor speed)"}),
-            "mode_label": ("mode", labels, {"units": "1", "long_name": "coordinate with the largest energy share "
-                                           "at the nominal rotor speed"}),
+            "mode": (
+                "mode",
+                np.arange(lam.shape[0]),
+                {"units": "1", "long_name": "mode number (by frequency at the nominal rotor speed)"},
+            ),
+            "mode_label": (
+                "mode",
+                labels,
+                {"units": "1", "long_name": "coordinate with the largest energy share at the nominal rotor speed"},
+            ),
             "rotor_speed": ("rotor_speed", speeds, {"units": "rad s-1", "long_name": "main rotor speed"}),
             "coordinate": ("coordinate", names, {"units": "1", "long_name": "multiblade coordinate"}),
         },

@@ -28,20 +28,48 @@ def _fuselage_scale(heli: H.Helicopter, scale: np.ndarray) -> H.Helicopter:
 
 # parameter -> (unit, long name, how it changes the helicopter, its value in a helicopter)
 PARAMETERS = {
-    "lag_stiffness": ("N m rad-1", "lag hinge spring", lambda h, v: _main(h, lag_stiffness=v),
-                      lambda h: h.main_rotor.lag_stiffness),
-    "lag_damping": ("N m s rad-1", "lag damper", lambda h, v: _main(h, lag_damping=v),
-                    lambda h: h.main_rotor.lag_damping),
-    "hinge_offset": ("m", "flap and lag hinge offset", lambda h, v: _main(h, hinge_offset=v),
-                     lambda h: h.main_rotor.hinge_offset),
-    "feather_stiffness": ("N m rad-1", "pitch-link (feather) spring", lambda h, v: _main(h, feather_stiffness=v),
-                          lambda h: h.main_rotor.feather_stiffness),
-    "imbalance_mass_factor": ("1", "mass scale of the imbalanced blade",
-                              lambda h, v: replace(h, imbalance_mass_factor=v), lambda h: h.imbalance_mass_factor),
-    "fuselage_inertia_scale": ("1", "scale of all fuselage inertias (Ixx, Iyy, Izz, Ixz) from the config's",
-                               lambda h, v: _fuselage_scale(h, np.full(3, v)), lambda h: 1.0),
-    "fuselage_ixx_scale": ("1", "scale of the fuselage roll inertia Ixx (and Ixz) from the config's",
-                           lambda h, v: _fuselage_scale(h, np.array([v, 1.0, 1.0])), lambda h: 1.0),
+    "lag_stiffness": (
+        "N m rad-1",
+        "lag hinge spring",
+        lambda h, v: _main(h, lag_stiffness=v),
+        lambda h: h.main_rotor.lag_stiffness,
+    ),
+    "lag_damping": (
+        "N m s rad-1",
+        "lag damper",
+        lambda h, v: _main(h, lag_damping=v),
+        lambda h: h.main_rotor.lag_damping,
+    ),
+    "hinge_offset": (
+        "m",
+        "flap and lag hinge offset",
+        lambda h, v: _main(h, hinge_offset=v),
+        lambda h: h.main_rotor.hinge_offset,
+    ),
+    "feather_stiffness": (
+        "N m rad-1",
+        "pitch-link (feather) spring",
+        lambda h, v: _main(h, feather_stiffness=v),
+        lambda h: h.main_rotor.feather_stiffness,
+    ),
+    "imbalance_mass_factor": (
+        "1",
+        "mass scale of the imbalanced blade",
+        lambda h, v: replace(h, imbalance_mass_factor=v),
+        lambda h: h.imbalance_mass_factor,
+    ),
+    "fuselage_inertia_scale": (
+        "1",
+        "scale of all fuselage inertias (Ixx, Iyy, Izz, Ixz) from the config's",
+        lambda h, v: _fuselage_scale(h, np.full(3, v)),
+        lambda h: 1.0,
+    ),
+    "fuselage_ixx_scale": (
+        "1",
+        "scale of the fuselage roll inertia Ixx (and Ixz) from the config's",
+        lambda h, v: _fuselage_scale(h, np.array([v, 1.0, 1.0])),
+        lambda h: 1.0,
+    ),
 }
 
 
@@ -66,8 +94,9 @@ def parse_run_name(name: str) -> tuple[str, float]:
     return parameter, float(value)
 
 
-def dominant_lines(run: xr.Dataset, *, rotor_omega_rad_s: float, min_omega_rad_s: float,
-                   zero_padding: int) -> xr.Dataset:
+def dominant_lines(
+    run: xr.Dataset, *, rotor_omega_rad_s: float, min_omega_rad_s: float, zero_padding: int
+) -> xr.Dataset:
     """Per axis of a `helicopter.run` result: the dominant angular frequency (rad/s) above `min_omega_rad_s`,
     that line's amplitude (m), and the amplitude of the rotor's 1/rev line (m, the largest within one
     frequency bin 2 pi / T of `rotor_omega_rad_s`). Amplitudes: Hann-window single-sided spectrum."""
@@ -76,8 +105,9 @@ def dominant_lines(run: xr.Dataset, *, rotor_omega_rad_s: float, min_omega_rad_s
     bin_rad_s = 2 * np.pi / (time[-1] - time[0] + dt)
     omega, amplitude, rotor = [], [], []
     for axis in H.AXES:
-        freq_hz, spec = spectrum.amplitude_spectrum(run.displacement.sel(axis=axis).values, dt,
-                                                    zero_padding=zero_padding)
+        freq_hz, spec = spectrum.amplitude_spectrum(
+            run.displacement.sel(axis=axis).values, dt, zero_padding=zero_padding
+        )
         w = 2 * np.pi * freq_hz
         band = np.flatnonzero(w >= min_omega_rad_s)
         if band.size == 0:
@@ -88,12 +118,26 @@ def dominant_lines(run: xr.Dataset, *, rotor_omega_rad_s: float, min_omega_rad_s
         rotor.append(spec[np.abs(w - rotor_omega_rad_s) <= bin_rad_s].max())
     axis = ("axis", list(H.AXES), {"units": "1", "long_name": "axis (x forward, y left, z up)"})
     return xr.Dataset(
-        {"dominant_omega": ("axis", omega, {"units": "rad s-1", "long_name": "dominant angular frequency "
-                                             f"above {min_omega_rad_s} rad/s"}),
-         "dominant_amplitude": ("axis", amplitude, {"units": "m", "long_name": "amplitude of the dominant line "
-                                                    "(Hann-window single-sided spectrum)"}),
-         "rotor_line_amplitude": ("axis", rotor, {"units": "m", "long_name": "amplitude of the 1/rev line "
-                                                  "(largest within one frequency bin of the rotor speed)"})},
+        {
+            "dominant_omega": (
+                "axis",
+                omega,
+                {"units": "rad s-1", "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"},
+            ),
+            "dominant_amplitude": (
+                "axis",
+                amplitude,
+                {"units": "m", "long_name": "amplitude of the dominant line (Hann-window single-sided spectrum)"},
+            ),
+            "rotor_line_amplitude": (
+                "axis",
+                rotor,
+                {
+                    "units": "m",
+                    "long_name": "amplitude of the 1/rev line (largest within one frequency bin of the rotor speed)",
+                },
+            ),
+        },
         coords={"axis": axis},
     )
 
@@ -112,15 +156,17 @@ def run(heli: H.Helicopter, name: str, options: H.SolverOptions) -> xr.Dataset:
     )
 
 
-def combine(runs: list[xr.Dataset], *, rotor_omega_rad_s: float, min_omega_rad_s: float,
-            zero_padding: int) -> xr.Dataset:
+def combine(
+    runs: list[xr.Dataset], *, rotor_omega_rad_s: float, min_omega_rad_s: float, zero_padding: int
+) -> xr.Dataset:
     """The dominant lines (`dominant_lines`) of each run from `run`, concatenated along `run` with the runs'
     parameter coordinates (variable attributes kept, global ones dropped)."""
     lines = []
     for ds in runs:
         one = ds.isel(run=0)
-        found = dominant_lines(one, rotor_omega_rad_s=rotor_omega_rad_s, min_omega_rad_s=min_omega_rad_s,
-                               zero_padding=zero_padding)
+        found = dominant_lines(
+            one, rotor_omega_rad_s=rotor_omega_rad_s, min_omega_rad_s=min_omega_rad_s, zero_padding=zero_padding
+        )
         coords = {name: ds[name] for name in ds.coords if ds[name].dims == ("run",)}
         lines.append(found.expand_dims(run=ds.run.values).assign_coords(coords))
     out = xr.concat(lines, dim="run", combine_attrs="override")

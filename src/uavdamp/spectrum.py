@@ -27,8 +27,9 @@ def _detrend(x: np.ndarray, kind: str) -> np.ndarray:
     return x
 
 
-def amplitude_spectrum(signal: np.ndarray, dt: float, *, zero_padding: int = 1,
-                       detrend: str = "constant") -> tuple[np.ndarray, np.ndarray]:
+def amplitude_spectrum(
+    signal: np.ndarray, dt: float, *, zero_padding: int = 1, detrend: str = "constant"
+) -> tuple[np.ndarray, np.ndarray]:
     """Single-sided amplitude spectrum with a Hann window: (freq_hz, amplitude in the signal's unit).
 
     The mean (detrend="constant") or the least-squares line (detrend="linear") is removed first; the
@@ -49,8 +50,15 @@ def amplitude_spectrum(signal: np.ndarray, dt: float, *, zero_padding: int = 1,
     return np.fft.rfftfreq(n_fft, dt), amp
 
 
-def dominant_frequency(signal: np.ndarray, dt: float, *, min_freq_hz: float = 0.0, max_freq_hz: float = np.inf,
-                       zero_padding: int = 8, detrend: str = "constant") -> float:
+def dominant_frequency(
+    signal: np.ndarray,
+    dt: float,
+    *,
+    min_freq_hz: float = 0.0,
+    max_freq_hz: float = np.inf,
+    zero_padding: int = 8,
+    detrend: str = "constant",
+) -> float:
     """Frequency, Hz, of the largest spectral peak within [min_freq_hz, max_freq_hz].
 
     The peak is refined by a parabola through the log amplitudes of the three bins around it (exact
@@ -61,16 +69,23 @@ def dominant_frequency(signal: np.ndarray, dt: float, *, min_freq_hz: float = 0.
     if band.size == 0 or not np.any(amp[band] > 0):
         return float("nan")
     k = band[np.argmax(amp[band])]
-    if 0 < k < freq.size - 1 and np.all(amp[k - 1:k + 2] > 0):
-        a, b, c = np.log(amp[k - 1:k + 2])
+    if 0 < k < freq.size - 1 and np.all(amp[k - 1 : k + 2] > 0):
+        a, b, c = np.log(amp[k - 1 : k + 2])
         denom = a - 2 * b + c
         shift = 0.5 * (a - c) / denom if denom < 0 else 0.0
         return float(freq[k] + shift * (freq[1] - freq[0]))
     return float(freq[k])
 
 
-def refine_by_sine_fit(signal: np.ndarray, dt: float, freq_hz: float, *, detrend: str = "linear",
-                       min_freq_hz: float = 0.0, max_freq_hz: float = np.inf) -> float:
+def refine_by_sine_fit(
+    signal: np.ndarray,
+    dt: float,
+    freq_hz: float,
+    *,
+    detrend: str = "linear",
+    min_freq_hz: float = 0.0,
+    max_freq_hz: float = np.inf,
+) -> float:
     """Frequency, Hz, of the least-squares sine (with offset, and slope if detrend="linear") near freq_hz.
 
     The maximum-likelihood estimate of one sine in white noise: a bounded scalar search within
@@ -107,8 +122,15 @@ def required_span(window: float, min_freq_hz: float, min_cycles: float) -> float
     return float(min(window, min_cycles / min_freq_hz))
 
 
-def causal_segment(time: np.ndarray, signal: np.ndarray, t_now: float, window: float, *, min_freq_hz: float = 0.0,
-                   min_cycles: float = 2.0) -> tuple[np.ndarray, float] | None:
+def causal_segment(
+    time: np.ndarray,
+    signal: np.ndarray,
+    t_now: float,
+    window: float,
+    *,
+    min_freq_hz: float = 0.0,
+    min_cycles: float = 2.0,
+) -> tuple[np.ndarray, float] | None:
     """(segment, dt s): the last `window` s of `signal` up to and including t_now, or None if too short.
 
     The window semantics every causal estimator shares: only samples with time <= t_now, at most
@@ -138,9 +160,19 @@ def causal_segment(time: np.ndarray, signal: np.ndarray, t_now: float, window: f
     return x[start:end], float(dt)
 
 
-def dominant_frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float, window: float, *,
-                              min_freq_hz: float = 0.0, max_freq_hz: float = np.inf, zero_padding: int = 8,
-                              min_cycles: float = 2.0, detrend: str = "linear", refine: bool = True) -> float:
+def dominant_frequency_causal(
+    time: np.ndarray,
+    signal: np.ndarray,
+    t_now: float,
+    window: float,
+    *,
+    min_freq_hz: float = 0.0,
+    max_freq_hz: float = np.inf,
+    zero_padding: int = 8,
+    min_cycles: float = 2.0,
+    detrend: str = "linear",
+    refine: bool = True,
+) -> float:
     """Dominant frequency, Hz, of the last `window` s of `signal` up to and including t_now.
 
     time (s, uniform step dt), signal: samples, of which only those with time <= t_now are used
@@ -159,11 +191,13 @@ def dominant_frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float
     if found is None:
         return float("nan")
     segment, dt = found
-    freq_hz = dominant_frequency(segment, dt, min_freq_hz=min_freq_hz, max_freq_hz=max_freq_hz,
-                                 zero_padding=zero_padding, detrend=detrend)
+    freq_hz = dominant_frequency(
+        segment, dt, min_freq_hz=min_freq_hz, max_freq_hz=max_freq_hz, zero_padding=zero_padding, detrend=detrend
+    )
     if refine and np.isfinite(freq_hz):
-        freq_hz = refine_by_sine_fit(segment, dt, freq_hz, detrend=detrend, min_freq_hz=min_freq_hz,
-                                     max_freq_hz=max_freq_hz)
+        freq_hz = refine_by_sine_fit(
+            segment, dt, freq_hz, detrend=detrend, min_freq_hz=min_freq_hz, max_freq_hz=max_freq_hz
+        )
     return freq_hz
 
 
@@ -175,10 +209,19 @@ def update_times(t_end: float, update_period: float) -> np.ndarray:
     return np.arange(1, n + 1) * float(update_period)
 
 
-def track_dominant(time: np.ndarray, signal: np.ndarray, *, update_period: float, window: float,
-                   min_freq_hz: float = 0.0, max_freq_hz: float = np.inf, zero_padding: int = 8,
-                   min_cycles: float = 2.0, detrend: str = "linear",
-                   refine: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def track_dominant(
+    time: np.ndarray,
+    signal: np.ndarray,
+    *,
+    update_period: float,
+    window: float,
+    min_freq_hz: float = 0.0,
+    max_freq_hz: float = np.inf,
+    zero_padding: int = 8,
+    min_cycles: float = 2.0,
+    detrend: str = "linear",
+    refine: bool = True,
+) -> tuple[np.ndarray, np.ndarray]:
     """Causal dominant-frequency track: (update_times s, freq_hz), one estimate per update time.
 
     Update times t_k = k update_period, k = 1, 2, ... up to time[-1] (time starts at 0; t = 0 is
@@ -195,8 +238,21 @@ def track_dominant(time: np.ndarray, signal: np.ndarray, *, update_period: float
     """
     time = np.asarray(time, dtype=float)
     times = update_times(time[-1], update_period)
-    freq = np.array([dominant_frequency_causal(time, signal, t, window, min_freq_hz=min_freq_hz,
-                                               max_freq_hz=max_freq_hz, zero_padding=zero_padding,
-                                               min_cycles=min_cycles, detrend=detrend, refine=refine)
-                     for t in times])
+    freq = np.array(
+        [
+            dominant_frequency_causal(
+                time,
+                signal,
+                t,
+                window,
+                min_freq_hz=min_freq_hz,
+                max_freq_hz=max_freq_hz,
+                zero_padding=zero_padding,
+                min_cycles=min_cycles,
+                detrend=detrend,
+                refine=refine,
+            )
+            for t in times
+        ]
+    )
     return times, freq

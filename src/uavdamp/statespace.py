@@ -121,8 +121,17 @@ def free_response_rows(c: np.ndarray, phi: np.ndarray, n_samples: int, block: in
     return rows[:n_samples]
 
 
-def sine_outputs(plant: StateSpace, free: np.ndarray, freq_hz: np.ndarray, axis: int, amplitude: float,
-                 z0: np.ndarray, steps: np.ndarray, h: float, rows: list[int]) -> np.ndarray:
+def sine_outputs(
+    plant: StateSpace,
+    free: np.ndarray,
+    freq_hz: np.ndarray,
+    axis: int,
+    amplitude: float,
+    z0: np.ndarray,
+    steps: np.ndarray,
+    h: float,
+    rows: list[int],
+) -> np.ndarray:
     """Outputs `rows` at t = k h (s), k in `steps`, for u = amplitude (m) sin(2 pi f t) on `axis` (0: y, 1: z).
 
     Each frequency alone; free = `free_response_rows(c[rows], exp(A h), ...)[steps]`; z0 (ns, nf): the

@@ -2,8 +2,8 @@
 
 For each case and stiffness, each strategy named in the config (``study.strategies``, `uavdamp.strategies`)
 runs on its plant (`uavdamp.plants`: platform.backend for the isolated mount, Exudyn for the rigid one and for
-laws switching every step; `plant` records which); every registered metric (`uavdamp.metrics`) is applied to each run, and
-responses and metrics are stacked over (case, stiffness, strategy) with xarray.
+laws switching every step; `plant` records which); every registered metric (`uavdamp.metrics`) is applied to
+each run, and responses and metrics are stacked over (case, stiffness, strategy) with xarray.
 """
 
 from __future__ import annotations
@@ -14,12 +14,12 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import metrics, strategies, tracking
+from uavdamp.camera import CameraModel
 from uavdamp.config import load, require, setting
 from uavdamp.excitation import on_grid
-from uavdamp.platform import PlatformParams
 from uavdamp.plants import Plants
+from uavdamp.platform import PlatformParams
 from uavdamp.progress import bar
-from uavdamp.camera import CameraModel
 from uavdamp.tracking import TrackerOptions
 
 KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # response variables the study keeps
@@ -61,9 +61,11 @@ def run_study(cases: xr.Dataset, platform, model, options: StudyOptions, progres
         y, z = (cases.mount_displacement.sel(case=case, axis=a).values for a in ("y", "z"))
         per_stiffness = []
         for stiffness in options.stiffness:
+
             def run(strategy, stiffness=stiffness, y=y, z=z):
-                return plants.for_run(strategy.mount, strategy.law).run(time, y, z, stiffness=stiffness,
-                                                                        law=strategy.law)
+                return plants.for_run(strategy.mount, strategy.law).run(
+                    time, y, z, stiffness=stiffness, law=strategy.law
+                )
 
             context = strategies.Context(options, params, model, float(stiffness), run)
             per_stiffness.append(_one_case_and_stiffness(context, options.strategies))
@@ -78,8 +80,9 @@ def run_study(cases: xr.Dataset, platform, model, options: StudyOptions, progres
 
 def _concat(datasets: list[xr.Dataset], dim: str) -> xr.Dataset:
     """Datasets on the same time grid stacked along a new dimension `dim` (variable attributes from the first)."""
-    return xr.concat(datasets, dim=dim, data_vars="all", coords="minimal", compat="override", join="exact",
-                     combine_attrs="override")
+    return xr.concat(
+        datasets, dim=dim, data_vars="all", coords="minimal", compat="override", join="exact", combine_attrs="override"
+    )
 
 
 def _one_case_and_stiffness(context: strategies.Context, names) -> xr.Dataset:
@@ -100,14 +103,21 @@ def _finish(ds: xr.Dataset, cases: xr.Dataset, options: StudyOptions, params: Pl
     grid_time = ds.time.values
     ds = ds.drop_vars([c for c in ds.coords if c not in ("case", "stiffness", "strategy", "axis", "time", "frame")])
     ds = ds.assign_coords(
-        case=cases.case, axis=cases.axis,
+        case=cases.case,
+        axis=cases.axis,
         stiffness=("stiffness", np.asarray(options.stiffness), {"units": "N m-1", "long_name": "isolator stiffness K"}),
         strategy=("strategy", list(options.strategies), {"units": "1", "long_name": "damping strategy"}),
-        time=("time", grid_time, {"units": "s", "long_name": "time"}))
-    on_solver_grid = [on_grid(cases.time.values, *cases.mount_displacement.sel(case=c).values, params.time_step)[1:]
-                      for c in cases.case.values]  # the input exactly as the plants resampled it
-    ds["mount_displacement"] = (("case", "axis", "time"), np.asarray(on_solver_grid),
-                                {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"})
+        time=("time", grid_time, {"units": "s", "long_name": "time"}),
+    )
+    on_solver_grid = [
+        on_grid(cases.time.values, *cases.mount_displacement.sel(case=c).values, params.time_step)[1:]
+        for c in cases.case.values
+    ]  # the input exactly as the plants resampled it
+    ds["mount_displacement"] = (
+        ("case", "axis", "time"),
+        np.asarray(on_solver_grid),
+        {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"},
+    )
     ds.attrs = options.camera.attrs() if options.camera is not None else {}
     return ds.merge(tracked_frequencies(cases, options, params.update_period))
 
@@ -124,8 +134,16 @@ def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period:
             row.append(freq)
         rows.append(row)
     return xr.Dataset(
-        {"tracked_freq": (("case", "axis", "update_time"), np.asarray(rows), {
-            "units": "Hz", "long_name": f"dominant input frequency tracked at each update ({options.tracking.method}; "
-            "NaN: too early)"})},
+        {
+            "tracked_freq": (
+                ("case", "axis", "update_time"),
+                np.asarray(rows),
+                {
+                    "units": "Hz",
+                    "long_name": f"dominant input frequency tracked at each update ({options.tracking.method}; "
+                    "NaN: too early)",
+                },
+            )
+        },
         coords={"update_time": ("update_time", update, {"units": "s", "long_name": "damping update time"})},
     )

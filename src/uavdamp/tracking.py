@@ -17,7 +17,6 @@ Methods (`study.tracking.method`):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -57,8 +56,11 @@ class TrackerOptions:
         require(self.zero_padding >= 1, f"{KEY}.zero_padding", f"must be an integer >= 1, got {self.zero_padding!r}")
         require(self.window > 0, f"{KEY}.window_s", f"must be positive, got {self.window!r}")
         require(self.min_cycles > 0, f"{KEY}.min_cycles", f"must be positive, got {self.min_cycles!r}")
-        require(0 <= self.min_freq_hz < self.max_freq_hz, f"{KEY}.max_freq_hz",
-                f"the band [{self.min_freq_hz}, {self.max_freq_hz}] Hz is empty")
+        require(
+            0 <= self.min_freq_hz < self.max_freq_hz,
+            f"{KEY}.max_freq_hz",
+            f"the band [{self.min_freq_hz}, {self.max_freq_hz}] Hz is empty",
+        )
         require(self.initial_freq_hz > 0, f"{KEY}.initial_freq_hz", f"must be positive, got {self.initial_freq_hz!r}")
 
     @classmethod
@@ -86,7 +88,7 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     n_exp = 2 * int(model_order) + 2
     if rows < n_exp + 2:
         raise ValueError(f"{KEY}.model_order: {model_order} sinusoids need more than {n} samples in the window")
-    hankel = scipy.linalg.hankel(x[:rows], x[rows - 1:])
+    hankel = scipy.linalg.hankel(x[:rows], x[rows - 1 :])
     stacked = np.hstack([hankel, hankel[::-1, ::-1]])
     with threadpool_limits(1):  # small dense problems: BLAS threads only contend (2.4 s against 0.06 s a call here)
         u = scipy.linalg.svd(stacked, full_matrices=False)[0][:, :n_exp]
@@ -103,8 +105,9 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     return angle[line][order] / (2 * np.pi * dt), 2 * np.abs(coef[line][order])
 
 
-def esprit_dominant(segment: np.ndarray, dt: float, *, model_order: int, min_freq_hz: float,
-                    max_freq_hz: float) -> float:
+def esprit_dominant(
+    segment: np.ndarray, dt: float, *, model_order: int, min_freq_hz: float, max_freq_hz: float
+) -> float:
     """Frequency, Hz, of the largest-amplitude ESPRIT line in [min_freq_hz, max_freq_hz]; NaN if none."""
     segment = np.asarray(segment, dtype=float)
     if not np.any(segment != segment[0]):
@@ -124,20 +127,30 @@ def frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float, options
     `spectrum.dominant_frequency_causal` with these options.
     """
     if options.method == "fft":
-        return spectrum.dominant_frequency_causal(time, signal, t_now, options.window,
-                                                  min_freq_hz=options.min_freq_hz, max_freq_hz=options.max_freq_hz,
-                                                  zero_padding=options.zero_padding, min_cycles=options.min_cycles)
-    found = spectrum.causal_segment(time, signal, t_now, options.window, min_freq_hz=options.min_freq_hz,
-                                    min_cycles=options.min_cycles)
+        return spectrum.dominant_frequency_causal(
+            time,
+            signal,
+            t_now,
+            options.window,
+            min_freq_hz=options.min_freq_hz,
+            max_freq_hz=options.max_freq_hz,
+            zero_padding=options.zero_padding,
+            min_cycles=options.min_cycles,
+        )
+    found = spectrum.causal_segment(
+        time, signal, t_now, options.window, min_freq_hz=options.min_freq_hz, min_cycles=options.min_cycles
+    )
     if found is None:
         return float("nan")
     segment, dt = found
-    return esprit_dominant(segment, dt, model_order=options.model_order, min_freq_hz=options.min_freq_hz,
-                           max_freq_hz=options.max_freq_hz)
+    return esprit_dominant(
+        segment, dt, model_order=options.model_order, min_freq_hz=options.min_freq_hz, max_freq_hz=options.max_freq_hz
+    )
 
 
-def track(time: np.ndarray, signal: np.ndarray, *, update_period: float,
-          options: TrackerOptions) -> tuple[np.ndarray, np.ndarray]:
+def track(
+    time: np.ndarray, signal: np.ndarray, *, update_period: float, options: TrackerOptions
+) -> tuple[np.ndarray, np.ndarray]:
     """Causal track: (update times k update_period s, k = 1, 2, ... up to time[-1]; freq_hz), as
     `spectrum.track_dominant` but with any method."""
     time = np.asarray(time, dtype=float)

@@ -26,8 +26,9 @@ def start_log(path: str | os.PathLike) -> None:
     """Send this process's log records, warnings, prints and tracebacks to `path` (a Snakemake `log:`)."""
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     sys.stderr = sys.stdout = open(path, "a", buffering=1)  # tracebacks and prints land in the log too
-    logging.basicConfig(stream=sys.stderr, level=logging.INFO,
-                        format="%(asctime)s %(levelname)s %(message)s", force=True)
+    logging.basicConfig(
+        stream=sys.stderr, level=logging.INFO, format="%(asctime)s %(levelname)s %(message)s", force=True
+    )
     logging.captureWarnings(True)
     logging.getLogger("uavdamp").info("versions: %s", json.dumps(package_versions(), sort_keys=True))
 

@@ -33,8 +33,19 @@ import time
 from pathlib import Path
 
 PACKAGES = ("slurmctld", "slurmd", "slurm-client", "munge")
-BINARIES = ("munged", "munge", "unmunge", "slurmctld", "slurmd", "sinfo", "sbatch", "squeue", "scancel",
-            "scontrol", "srun")
+BINARIES = (
+    "munged",
+    "munge",
+    "unmunge",
+    "slurmctld",
+    "slurmd",
+    "sinfo",
+    "sbatch",
+    "squeue",
+    "scancel",
+    "scontrol",
+    "srun",
+)
 PARTITION = "uavdamp"
 SYSTEM_CONF = Path("/etc/slurm/slurm.conf")
 # Where SLURM clients look when SLURM_CONF is unset and SYSTEM_CONF is absent (slurmd's configless
@@ -75,8 +86,10 @@ def ensure_packages(log=print) -> None:
         raise ClusterUnavailable("SLURM/munge not installed and no apt-get to install them")
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
     log(f"installing {' '.join(PACKAGES)} with apt-get")
-    for cmd in (["apt-get", "update", "-qq"],
-                ["apt-get", "install", "-y", "-qq", "--no-install-recommends", *PACKAGES]):
+    for cmd in (
+        ["apt-get", "update", "-qq"],
+        ["apt-get", "install", "-y", "-qq", "--no-install-recommends", *PACKAGES],
+    ):
         result = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
         if result.returncode != 0:
             raise ClusterUnavailable(f"{' '.join(cmd)} failed: {result.stderr.strip()[-800:]}")
@@ -119,8 +132,9 @@ class LocalCluster:
         return {"SLURM_CONF": str(self.conf)}
 
     def run(self, *cmd: str, timeout: float = 30, check: bool = True) -> subprocess.CompletedProcess:
-        result = subprocess.run(list(cmd), env=dict(os.environ, **self.env), capture_output=True, text=True,
-                                timeout=timeout)
+        result = subprocess.run(
+            list(cmd), env=dict(os.environ, **self.env), capture_output=True, text=True, timeout=timeout
+        )
         if check and result.returncode != 0:
             raise RuntimeError(f"{' '.join(cmd)} failed ({result.returncode}): {result.stderr.strip()}")
         return result
@@ -178,8 +192,15 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
 
     def _spawn(self, name: str, cmd: list[str], user: str | None = None) -> None:
         out = open(self.root / "log" / f"{name}.console", "wb")
-        proc = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
-                                env=dict(os.environ, **self.env), user=user, start_new_session=True)
+        proc = subprocess.Popen(
+            cmd,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.DEVNULL,
+            env=dict(os.environ, **self.env),
+            user=user,
+            start_new_session=True,
+        )
         out.close()
         self._procs[name] = proc
         self.pids[name] = proc.pid
@@ -209,13 +230,15 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
         while time.monotonic() < end:
             for name, proc in self._procs.items():
                 if proc.poll() is not None:
-                    raise ClusterUnavailable(f"{name} exited with {proc.returncode} while waiting for {what}: "
-                                             + self._tail(name))
+                    raise ClusterUnavailable(
+                        f"{name} exited with {proc.returncode} while waiting for {what}: " + self._tail(name)
+                    )
             if ready():
                 return
             time.sleep(0.2)
-        raise ClusterUnavailable(f"{what} not ready after {timeout:.0f} s: " + self._tail("slurmctld")
-                                 + self._tail("slurmd"))
+        raise ClusterUnavailable(
+            f"{what} not ready after {timeout:.0f} s: " + self._tail("slurmctld") + self._tail("slurmd")
+        )
 
     def _tail(self, name: str) -> str:
         texts = []
@@ -228,14 +251,15 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
         result = self.run("sinfo", "-h", "-N", "-o", "%T", timeout=10, check=False)
         return result.stdout.strip() if result.returncode == 0 else ""
 
-    def start(self, timeout: float = 60) -> "LocalCluster":
+    def start(self, timeout: float = 60) -> LocalCluster:
         t0 = time.monotonic()
         if os.geteuid() != 0:
             raise ClusterUnavailable("not root: starting slurmctld/slurmd/munged needs root")
         ensure_packages(self.log)
         if SYSTEM_CONF.exists():
-            raise ClusterUnavailable(f"{SYSTEM_CONF} exists (a real SLURM install?): jobs would use it, "
-                                     "not the throwaway cluster")
+            raise ClusterUnavailable(
+                f"{SYSTEM_CONF} exists (a real SLURM install?): jobs would use it, not the throwaway cluster"
+            )
         _stop_leftover()
         if RUN_CONF.is_symlink() and not RUN_CONF.exists():
             RUN_CONF.unlink()  # dangling: left by a throwaway cluster whose folder is gone
@@ -247,8 +271,11 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
         try:
             self._start_munge()
             self._spawn("slurmctld", [_sbin("slurmctld"), "-D", "-i", "-f", str(self.conf)])
-            self._wait(lambda: self.run("scontrol", "ping", timeout=10, check=False).stdout.count("UP") > 0,
-                       timeout, "slurmctld")
+            self._wait(
+                lambda: self.run("scontrol", "ping", timeout=10, check=False).stdout.count("UP") > 0,
+                timeout,
+                "slurmctld",
+            )
             self._spawn("slurmd", [_sbin("slurmd"), "-D", "-N", "localhost", "-f", str(self.conf)])
             self._wait(lambda: self.node_state() == "idle", timeout, "node idle in sinfo")
         except BaseException:
@@ -315,7 +342,7 @@ PartitionName={self.partition} Nodes=localhost Default=YES MaxTime=INFINITE Stat
         if remove:
             shutil.rmtree(self.root, ignore_errors=True)
 
-    def __enter__(self) -> "LocalCluster":
+    def __enter__(self) -> LocalCluster:
         return self.start()
 
     def __exit__(self, *exc) -> None:

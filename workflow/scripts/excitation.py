@@ -4,9 +4,16 @@ from uavdamp import excitation, io, workflow
 
 workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.excitation
-runs = {name: io.open_dataset(path) for name, path in zip(snakemake.params.runs, snakemake.input.runs)}
+runs = {name: io.open_dataset(path) for name, path in zip(snakemake.params.runs, snakemake.input.runs, strict=True)}
 track = cfg["tracking"]
-ds = excitation.cases_dataset(runs, cfg["cases"], duration=cfg["duration_s"], highpass_hz=cfg["highpass_hz"],
-                              band_hz=(track["min_freq_hz"], track["max_freq_hz"]))
-workflow.log_info(f"dominant frequency, Hz:\n{ds.dominant_freq.to_pandas()}\nspectral width, Hz:\n{ds.spectral_width.to_pandas()}")
+ds = excitation.cases_dataset(
+    runs,
+    cfg["cases"],
+    duration=cfg["duration_s"],
+    highpass_hz=cfg["highpass_hz"],
+    band_hz=(track["min_freq_hz"], track["max_freq_hz"]),
+)
+workflow.log_info(
+    f"dominant frequency, Hz:\n{ds.dominant_freq.to_pandas()}\nspectral width, Hz:\n{ds.spectral_width.to_pandas()}"
+)
 io.write_netcdf(ds, snakemake.output[0], cfg, section="study", command=workflow.snakemake_command(snakemake))

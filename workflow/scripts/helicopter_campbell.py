@@ -23,5 +23,10 @@ workflow.log_info(f"modes at {float(nominal.rotor_speed):.2f} rad/s:\n{table}")
 workflow.log_info(f"largest periodicity residual: {float(ds.periodicity_residual.max()):.3g}")
 workflow.log_info(f"Floquet, imbalanced rotor:\n{ds[['floquet_frequency', 'floquet_decay_rate']].to_dataframe()}")
 io.save_figure(campbell_figure(ds), snakemake.output.figure)
-io.write_netcdf(ds, snakemake.output.campbell, {**cfg, "campbell": opts}, section="helicopter",
-                command=workflow.snakemake_command(snakemake))
+io.write_netcdf(
+    ds,
+    snakemake.output.campbell,
+    {**cfg, "campbell": opts},
+    section="helicopter",
+    command=workflow.snakemake_command(snakemake),
+)

@@ -15,7 +15,8 @@ if snakemake.wildcards.rotor == "balanced":
     heli = heli.balanced()
 elif snakemake.wildcards.rotor == "both_rotors":
     heli = heli.with_tail_rotor_speed(cfg["tail_rotor"]["omega_running_rad_s"])
-ds = helicopter.run(heli, helicopter.SolverOptions.from_config(cfg["solver"]),
-                    progress=f"helicopter {snakemake.wildcards.rotor}")
+ds = helicopter.run(
+    heli, helicopter.SolverOptions.from_config(cfg["solver"]), progress=f"helicopter {snakemake.wildcards.rotor}"
+)
 workflow.log_info(f"{snakemake.wildcards.rotor}: {ds.attrs}")
 io.write_netcdf(ds, snakemake.output[0], cfg, section="helicopter", command=workflow.snakemake_command(snakemake))

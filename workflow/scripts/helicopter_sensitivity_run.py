@@ -12,5 +12,10 @@ heli = helicopter.Helicopter.from_config(cfg)
 options = helicopter.SolverOptions.from_config({**cfg["solver"], "duration": snakemake.params.duration})
 ds = sensitivity.run(heli, snakemake.wildcards.run, options)
 workflow.log_info(f"{snakemake.wildcards.run}: done")
-io.write_netcdf(ds, snakemake.output[0], {**cfg, "sensitivity_duration": snakemake.params.duration},
-                section="helicopter", command=workflow.snakemake_command(snakemake))
+io.write_netcdf(
+    ds,
+    snakemake.output[0],
+    {**cfg, "sensitivity_duration": snakemake.params.duration},
+    section="helicopter",
+    command=workflow.snakemake_command(snakemake),
+)

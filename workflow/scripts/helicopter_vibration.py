@@ -10,4 +10,6 @@ ds = helicopter.vibration(helicopter.Helicopter.from_config(cfg), runs, **cfg["s
 workflow.log_info(f"dominant omega, rad/s:\n{ds.dominant_omega.to_pandas()}")
 fig = fuselage_vibration_figure(ds)
 io.save_figure(fig, snakemake.output.figure)
-io.write_netcdf(ds, snakemake.output.vibration, cfg, section="helicopter", command=workflow.snakemake_command(snakemake))
+io.write_netcdf(
+    ds, snakemake.output.vibration, cfg, section="helicopter", command=workflow.snakemake_command(snakemake)
+)

@@ -13,7 +13,7 @@ if response is None:
     raise ValueError("platform.response is required by this stage (the response figure)")
 
 modes = modes_dataset(params)
-for f, target in zip(modes.natural_frequency.values, modes.target_frequency.values):
+for f, target in zip(modes.natural_frequency.values, modes.target_frequency.values, strict=True):
     workflow.log_info(f"mode {f:.4f} Hz (target {target:.2f} Hz, {100 * (f / target - 1):+.3f} %)")
 
 time, y, z = sine_input(response.freq_y_hz, response.freq_z_hz, response.amplitude, response.duration, params.time_step)

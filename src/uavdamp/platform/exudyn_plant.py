@@ -51,8 +51,15 @@ class ExudynPlant:
 
     name = "exudyn"
 
-    def __init__(self, params, *, mount: str = "isolated", body: str = "full", lumped_mass: float | None = None,
-                 clamped: bool = False):
+    def __init__(
+        self,
+        params,
+        *,
+        mount: str = "isolated",
+        body: str = "full",
+        lumped_mass: float | None = None,
+        clamped: bool = False,
+    ):
         t0 = _time.perf_counter()
         self.model = build(params, mount=mount, body=body, lumped_mass=lumped_mass, clamped=clamped)
         self.params, self.mount, self.body, self.clamped = self.model.params, mount, body, clamped
@@ -136,9 +143,14 @@ class ExudynPlant:
         i = model.link_index
         mount_v = np.array([v[i["mount_y"]], v[i["mount_z"]]])
         observation = Observation(
-            t_now=float(run.time[n]), time=run.time[: n + 1], mount_y=run.y[: n + 1], mount_z=run.z[: n + 1],
-            base_velocity=mount_v + np.array([v[i["iso_y"]], v[i["iso_z"]]]), mount_velocity=mount_v,
-            stroke=np.array([q[i["iso_y"]], q[i["iso_z"]]]))
+            t_now=float(run.time[n]),
+            time=run.time[: n + 1],
+            mount_y=run.y[: n + 1],
+            mount_z=run.z[: n + 1],
+            base_velocity=mount_v + np.array([v[i["iso_y"]], v[i["iso_z"]]]),
+            mount_velocity=mount_v,
+            stroke=np.array([q[i["iso_y"]], q[i["iso_z"]]]),
+        )
         return contract.clip(run.law(observation), self.bounds, observation.t_now)
 
     def _set_damping(self, c: float) -> None:
@@ -189,8 +201,18 @@ class ExudynPlant:
             law.reset()
         y.flags.writeable = z.flags.writeable = False  # a law sees views of these
         n = self.model.n
-        self._run = RunState(grid, y, z, y.tolist(), z.tolist(), law, steps_per_update, np.full(grid.size, math.nan),
-                             integral=np.zeros(n), force=np.zeros(n))
+        self._run = RunState(
+            grid,
+            y,
+            z,
+            y.tolist(),
+            z.tolist(),
+            law,
+            steps_per_update,
+            np.full(grid.size, math.nan),
+            integral=np.zeros(n),
+            force=np.zeros(n),
+        )
         self._initialise(stiffness)
         self._error = None
         t0 = _time.perf_counter()
@@ -234,8 +256,10 @@ class ExudynPlant:
         q = np.asarray(mbs.GetSensorStoredData(model.sensors["coordinates"]))[:, 1:]
         rates = np.asarray(mbs.GetSensorStoredData(model.sensors["rates"]))[:, 1:]
         if not success or camera.shape[0] != grid.size:
-            raise SolverFailed(f"solver stopped at t = {self._solver.it.currentTime:.6g} s of {grid[-1]:.6g} s "
-                               f"({camera.shape[0]} of {grid.size} samples)")
+            raise SolverFailed(
+                f"solver stopped at t = {self._solver.it.currentTime:.6g} s of {grid[-1]:.6g} s "
+                f"({camera.shape[0]} of {grid.size} samples)"
+            )
         applied = run.applied
         applied[-1] = run.c
         mount = np.stack([q[:, i["mount_y"]], q[:, i["mount_z"]]])  # as solved: the constraints' result
@@ -248,11 +272,22 @@ class ExudynPlant:
         angle = {name: (q[:, i[name]] if name in i else np.zeros(grid.size)) for name in ("yaw", "pitch")}
         values = {
             "camera_displacement": (camera[:, 1:] - model.camera_local)[:, 1:3].T,  # (axis, time), y and z
-            "camera_yaw": angle["yaw"], "camera_pitch": angle["pitch"], "damping": applied,
-            "mount_displacement": mount, "base_displacement": base, "isolator_velocity": stroke_rate,
+            "camera_yaw": angle["yaw"],
+            "camera_pitch": angle["pitch"],
+            "damping": applied,
+            "mount_displacement": mount,
+            "base_displacement": base,
+            "isolator_velocity": stroke_rate,
         }
-        attrs = {"title": "Camera platform response to a prescribed fuselage displacement", "plant": self.name,
-                 "mount": self.mount, "body": self.body, "isolator_stiffness_N_m": stiffness,
-                 "time_step_s": self.params.time_step, "law": getattr(run.law, "name", "none"),
-                 "newton_iterations": self.newton_iterations, "jacobian_updates": self.jacobian_updates}
+        attrs = {
+            "title": "Camera platform response to a prescribed fuselage displacement",
+            "plant": self.name,
+            "mount": self.mount,
+            "body": self.body,
+            "isolator_stiffness_N_m": stiffness,
+            "time_step_s": self.params.time_step,
+            "law": getattr(run.law, "name", "none"),
+            "newton_iterations": self.newton_iterations,
+            "jacobian_updates": self.jacobian_updates,
+        }
         return contract.response_dataset(grid, values, attrs)

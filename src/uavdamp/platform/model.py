@@ -115,7 +115,7 @@ def _control_terms(p: PlatformParams, idx: dict, n: int, body: str, clamped: boo
         mdiag = np.diag(mass_matrix(p.structure))
         s = p.structure
         zetas = (s.structural_damping_ratio, s.servo_damping_ratio, s.servo_damping_ratio)
-        for name, k, m, zeta in zip(COORDINATES, k_joint, mdiag, zetas):
+        for name, k, m, zeta in zip(COORDINATES, k_joint, mdiag, zetas, strict=True):
             pvec[idx[name]] = k
             if not clamped:  # clamped: the undamped platform (D and I terms off)
                 dvec[idx[name]] = 2 * zeta * math.sqrt(k * m)
@@ -126,8 +126,9 @@ def _control_terms(p: PlatformParams, idx: dict, n: int, body: str, clamped: boo
     return pvec, dvec, servo_ki, k_joint
 
 
-def build(params, *, mount: str = "isolated", body: str = "full", lumped_mass: float | None = None,
-          clamped: bool = False) -> PlatformModel:
+def build(
+    params, *, mount: str = "isolated", body: str = "full", lumped_mass: float | None = None, clamped: bool = False
+) -> PlatformModel:
     """Assemble the platform (see the module docstring); `params` a `PlatformParams` or the config section."""
     p = PlatformParams.from_config(params)
     if mount not in MOUNTS:
@@ -144,17 +145,33 @@ def build(params, *, mount: str = "isolated", body: str = "full", lumped_mass: f
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     zeros = [0.0] * n
-    node = mbs.AddNode(NodeGenericODE2(referenceCoordinates=zeros, initialCoordinates=zeros,
-                                       initialCoordinates_t=zeros, numberOfODE2Coordinates=n))
-    tree = mbs.AddObject(ObjectKinematicTree(
-        nodeNumber=node, jointTypes=[link.joint for link in links], linkParents=list(range(-1, n - 1)),
-        jointTransformations=exu.Matrix3DList([np.eye(3)] * n), jointOffsets=exu.Vector3DList([[0.0, 0.0, 0.0]] * n),
-        linkInertiasCOM=exu.Matrix3DList([lk.inertia if lk.inertia is not None else np.zeros((3, 3)) for lk in links]),
-        linkCOMs=exu.Vector3DList([list(lk.com) for lk in links]), linkMasses=[lk.mass for lk in links],
-        jointForceVector=zeros, jointPositionOffsetVector=zeros, jointVelocityOffsetVector=zeros,
-        jointPControlVector=pvec.tolist(), jointDControlVector=dvec.tolist()))
-    model = PlatformModel(p, mount, body, clamped, sc, mbs, tree, node, idx, n, 0, pvec, dvec, servo_ki, k_joint,
-                          camera_local)
+    node = mbs.AddNode(
+        NodeGenericODE2(
+            referenceCoordinates=zeros, initialCoordinates=zeros, initialCoordinates_t=zeros, numberOfODE2Coordinates=n
+        )
+    )
+    tree = mbs.AddObject(
+        ObjectKinematicTree(
+            nodeNumber=node,
+            jointTypes=[link.joint for link in links],
+            linkParents=list(range(-1, n - 1)),
+            jointTransformations=exu.Matrix3DList([np.eye(3)] * n),
+            jointOffsets=exu.Vector3DList([[0.0, 0.0, 0.0]] * n),
+            linkInertiasCOM=exu.Matrix3DList(
+                [lk.inertia if lk.inertia is not None else np.zeros((3, 3)) for lk in links]
+            ),
+            linkCOMs=exu.Vector3DList([list(lk.com) for lk in links]),
+            linkMasses=[lk.mass for lk in links],
+            jointForceVector=zeros,
+            jointPositionOffsetVector=zeros,
+            jointVelocityOffsetVector=zeros,
+            jointPControlVector=pvec.tolist(),
+            jointDControlVector=dvec.tolist(),
+        )
+    )
+    model = PlatformModel(
+        p, mount, body, clamped, sc, mbs, tree, node, idx, n, 0, pvec, dvec, servo_ki, k_joint, camera_local
+    )
     if not clamped:
         _add_mount_and_sensors(model)
     mbs.Assemble()
@@ -170,9 +187,17 @@ def _add_mount_and_sensors(model: PlatformModel) -> None:
         marker = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=model.node, coordinate=idx[name]))
         model.constraints.append(mbs.AddObject(CoordinateConstraint(markerNumbers=[ground, marker])))
     stored = {"storeInternal": True, "writeToFile": False}  # in memory, no files
-    model.sensors["camera"] = mbs.AddSensor(SensorKinematicTree(
-        objectNumber=model.tree, linkNumber=model.n - 1, localPosition=model.camera_local.tolist(),
-        outputVariableType=exu.OutputVariableType.Position, **stored))
-    for name, kind in (("coordinates", exu.OutputVariableType.Coordinates),
-                       ("rates", exu.OutputVariableType.Coordinates_t)):
+    model.sensors["camera"] = mbs.AddSensor(
+        SensorKinematicTree(
+            objectNumber=model.tree,
+            linkNumber=model.n - 1,
+            localPosition=model.camera_local.tolist(),
+            outputVariableType=exu.OutputVariableType.Position,
+            **stored,
+        )
+    )
+    for name, kind in (
+        ("coordinates", exu.OutputVariableType.Coordinates),
+        ("rates", exu.OutputVariableType.Coordinates_t),
+    ):
         model.sensors[name] = mbs.AddSensor(SensorNode(nodeNumber=model.node, outputVariableType=kind, **stored))

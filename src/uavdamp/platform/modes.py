@@ -34,16 +34,32 @@ def modes_dataset(params) -> xr.Dataset:
     }
     return xr.Dataset(
         {
-            "natural_frequency": ("mode", freq_hz, {
-                "units": "Hz", "long_name": "undamped natural frequency, base clamped (Exudyn eigen-analysis)"}),
-            "target_frequency": ("mode", np.sort(p.structure.natural_frequencies_hz), {
-                "units": "Hz", "long_name": "target natural frequency (Marichal et al. 2014, Table 1)"}),
-            "mode_shape": (("coordinate", "mode"), shapes, {
-                "units": "1", "long_name": "mode shape, largest component scaled to 1 (displacement in m, angles in rad)"}),
+            "natural_frequency": (
+                "mode",
+                freq_hz,
+                {"units": "Hz", "long_name": "undamped natural frequency, base clamped (Exudyn eigen-analysis)"},
+            ),
+            "target_frequency": (
+                "mode",
+                np.sort(p.structure.natural_frequencies_hz),
+                {"units": "Hz", "long_name": "target natural frequency (Marichal et al. 2014, Table 1)"},
+            ),
+            "mode_shape": (
+                ("coordinate", "mode"),
+                shapes,
+                {
+                    "units": "1",
+                    "long_name": "mode shape, largest component scaled to 1 (displacement in m, angles in rad)",
+                },
+            ),
             **{name: ((), value, {"units": u, "long_name": text}) for name, (value, u, text) in scalar.items()},
         },
         coords={
-            "mode": ("mode", np.arange(1, freq_hz.size + 1), {"units": "1", "long_name": "mode number, ascending frequency"}),
+            "mode": (
+                "mode",
+                np.arange(1, freq_hz.size + 1),
+                {"units": "1", "long_name": "mode number, ascending frequency"},
+            ),
             "coordinate": ("coordinate", list(COORDINATES), {"units": "1", "long_name": "platform joint coordinate"}),
         },
         attrs={"title": "Undamped natural frequencies and mode shapes of the camera platform, base clamped"},

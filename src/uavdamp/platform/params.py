@@ -32,10 +32,15 @@ class Structure:
 
     def validate(self) -> None:
         where = "platform.structure."
-        for name, key in (("base_mass", "base_mass_kg"), ("intermediate_mass", "intermediate_mass_kg"),
-                          ("intermediate_yaw_inertia", "intermediate_yaw_inertia_kg_m2"),
-                          ("pitch_body_mass", "pitch_body_mass_kg"), ("pitch_body_inertia", "pitch_body_inertia_kg_m2"),
-                          ("camera_mass", "camera_mass_kg"), ("servo_integral_time", "servo_integral_time_s")):
+        for name, key in (
+            ("base_mass", "base_mass_kg"),
+            ("intermediate_mass", "intermediate_mass_kg"),
+            ("intermediate_yaw_inertia", "intermediate_yaw_inertia_kg_m2"),
+            ("pitch_body_mass", "pitch_body_mass_kg"),
+            ("pitch_body_inertia", "pitch_body_inertia_kg_m2"),
+            ("camera_mass", "camera_mass_kg"),
+            ("servo_integral_time", "servo_integral_time_s"),
+        ):
             require(getattr(self, name) > 0, where + key, f"must be > 0, got {getattr(self, name)}")
         require(min(self.camera_size) > 0, where + "camera_size_m", f"must be > 0, got {self.camera_size}")
         freqs = self.natural_frequencies_hz
@@ -63,8 +68,11 @@ class Isolator:
         where = "platform.isolator."
         require(self.stiffness > 0, where + "stiffness_n_m", f"must be > 0, got {self.stiffness}")
         require(self.damping_min >= 0, where + "damping_min_n_s_m", f"must be >= 0, got {self.damping_min}")
-        require(self.damping_max >= self.damping_min, where + "damping_max_n_s_m",
-                f"({self.damping_max}) must be >= {where}damping_min_n_s_m ({self.damping_min})")
+        require(
+            self.damping_max >= self.damping_min,
+            where + "damping_max_n_s_m",
+            f"({self.damping_max}) must be >= {where}damping_min_n_s_m ({self.damping_min})",
+        )
         require(self.update_period > 0, where + "update_period_s", f"must be > 0, got {self.update_period}")
 
 
@@ -77,8 +85,11 @@ class Solver:
 
     def validate(self) -> None:
         require(self.time_step > 0, "platform.solver.time_step_s", f"must be > 0, got {self.time_step}")
-        require(0 < self.max_frequency_fraction <= 1, "platform.solver.max_frequency_fraction",
-                f"must lie in (0, 1], got {self.max_frequency_fraction}")
+        require(
+            0 < self.max_frequency_fraction <= 1,
+            "platform.solver.max_frequency_fraction",
+            f"must lie in (0, 1], got {self.max_frequency_fraction}",
+        )
 
 
 @dataclass(frozen=True)
@@ -92,8 +103,12 @@ class Response:
     damping: float = setting("damping_n_s_m")  # N s m-1, isolator damping of the isolated run
 
     def validate(self) -> None:
-        for name, key in (("freq_y_hz", "freq_y_hz"), ("freq_z_hz", "freq_z_hz"), ("amplitude", "amplitude_m"),
-                          ("duration", "duration_s")):
+        for name, key in (
+            ("freq_y_hz", "freq_y_hz"),
+            ("freq_z_hz", "freq_z_hz"),
+            ("amplitude", "amplitude_m"),
+            ("duration", "duration_s"),
+        ):
             value = getattr(self, name)
             require(value > 0, f"platform.response.{key}", f"must be > 0, got {value}")
 
@@ -119,12 +134,18 @@ class PlatformParams:
 
     def validate(self) -> None:
         require(self.backend in BACKENDS, "platform.backend", f"must be one of {list(BACKENDS)}, got {self.backend!r}")
-        require(self.isolator.update_period >= self.solver.time_step, "platform.isolator.update_period_s",
-                f"({self.isolator.update_period}) must be >= platform.solver.time_step_s ({self.solver.time_step})")
+        require(
+            self.isolator.update_period >= self.solver.time_step,
+            "platform.isolator.update_period_s",
+            f"({self.isolator.update_period}) must be >= platform.solver.time_step_s ({self.solver.time_step})",
+        )
         if self.response is not None:
             c = self.response.damping
-            require(self.isolator.damping_min <= c <= self.isolator.damping_max, "platform.response.damping_n_s_m",
-                    f"{c} must lie within the damper bounds")
+            require(
+                self.isolator.damping_min <= c <= self.isolator.damping_max,
+                "platform.response.damping_n_s_m",
+                f"{c} must lie within the damper bounds",
+            )
         from uavdamp.platform.design import design_stiffness
 
         design_stiffness(self.structure)  # raises ValueError if the targets cannot be met with these inertias

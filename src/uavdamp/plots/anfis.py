@@ -21,10 +21,14 @@ def membership_figure(model):
         x = np.linspace(lo, hi, 400) if hi > lo else np.linspace(lo - 1, hi + 1, 400)
         pairs = zip(zip(*before[i], strict=True), zip(*after[i], strict=True), strict=True)
         for k, ((c0, s0), (c1, s1)) in enumerate(pairs):
-            line, = ax.plot(x, np.exp(-((x - c1) ** 2) / (2 * s1**2)), lw=1.6, label=f"MF{k + 1}")
+            (line,) = ax.plot(x, np.exp(-((x - c1) ** 2) / (2 * s1**2)), lw=1.6, label=f"MF{k + 1}")
             ax.plot(x, np.exp(-((x - c0) ** 2) / (2 * s0**2)), ls="--", lw=1.0, color=line.get_color())
-        ax.set(xlabel=f"{model.input_names_[i]} ({model.input_units_[i]})", ylabel="membership", ylim=(0, 1.05),
-               title=f"{model.input_names_[i]}: before (dashed), after (solid)")
+        ax.set(
+            xlabel=f"{model.input_names_[i]} ({model.input_units_[i]})",
+            ylabel="membership",
+            ylim=(0, 1.05),
+            title=f"{model.input_names_[i]}: before (dashed), after (solid)",
+        )
         ax.legend(fontsize=7)
     return fig
 
@@ -36,8 +40,11 @@ def training_figure(record: xr.Dataset):
     chosen_on = "checking (MATLAB chkFIS)" if record.attrs["epoch_selection"] == "checking" else "validation"
     ax1.plot(record.epoch, record.validation_rmse, label=chosen_on)
     ax1.axvline(record.attrs["best_epoch"], color="k", ls=":", lw=0.8, label="kept epoch")
-    ax1.set(xlabel="epoch", ylabel=f"RMSE ({record.train_rmse.attrs['units']})",
-            title="ANFIS hybrid learning: " + record.train_rmse.attrs["long_name"].replace("training RMSE of ", ""))
+    ax1.set(
+        xlabel="epoch",
+        ylabel=f"RMSE ({record.train_rmse.attrs['units']})",
+        title="ANFIS hybrid learning: " + record.train_rmse.attrs["long_name"].replace("training RMSE of ", ""),
+    )
     ax1.legend()
     train = record.is_training.values == 1
     ref, pred = record.damping_reference.values, record.damping_predicted.values
@@ -56,8 +63,9 @@ def training_figure(record: xr.Dataset):
 def selection_figure(record: xr.Dataset):
     """Cross-validated RMSE per candidate; checking RMSE and regret (mean, max) per model."""
     with_regret = "check_regret_mean" in record
-    fig, axes = plt.subplots(1, 3 if with_regret else 2, figsize=(14 if with_regret else 10, 4.2),
-                             constrained_layout=True)
+    fig, axes = plt.subplots(
+        1, 3 if with_regret else 2, figsize=(14 if with_regret else 10, 4.2), constrained_layout=True
+    )
     unit = record.cv_rmse.attrs["units"]
     labels = [str(v) for v in record.candidate_label.values]
     x = np.arange(len(labels))
@@ -76,8 +84,13 @@ def selection_figure(record: xr.Dataset):
     ax.set(ylabel=f"RMSE ({record.check_rmse_target.attrs['units']})", title="checking rows: learnt target")
     if with_regret:
         ax = axes[2]
-        ax.bar(xm, record.check_regret_mean - 1, bottom=1, color=["C1" if m == "anfis" else "C7" for m in models],
-               label="mean")
+        ax.bar(
+            xm,
+            record.check_regret_mean - 1,
+            bottom=1,
+            color=["C1" if m == "anfis" else "C7" for m in models],
+            label="mean",
+        )
         ax.plot(xm, record.check_regret_max, "kv", label="max")
         ax.set_xticks(xm, models)
         ax.set(ylabel="criterion / optimal criterion", title="checking rows: regret")

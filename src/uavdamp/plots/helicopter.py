@@ -17,20 +17,33 @@ def fuselage_vibration_figure(ds: xr.Dataset, window_s: float = 5.0):
     early = ds.sel(time=slice(0.0, window_s))
     for row, axis in enumerate(("z", "y")):
         ax = axes[row, 0]
-        ax.plot(early.time, 1e3 * early.displacement.sel(rotor="imbalanced", axis=axis), "b-", lw=0.8,
-                label="imbalanced rotor")
-        ax.plot(early.time, 1e3 * early.displacement.sel(rotor="balanced", axis=axis), "r:", lw=1.5,
-                label="balanced rotor")
-        ax.set(xlabel="time (s)", ylabel=f"{axis.upper()} displacement (mm)",
-               title=f"({'ab'[row]}) fuselage vibration, {axis.upper()} axis")
+        ax.plot(
+            early.time,
+            1e3 * early.displacement.sel(rotor="imbalanced", axis=axis),
+            "b-",
+            lw=0.8,
+            label="imbalanced rotor",
+        )
+        ax.plot(
+            early.time, 1e3 * early.displacement.sel(rotor="balanced", axis=axis), "r:", lw=1.5, label="balanced rotor"
+        )
+        ax.set(
+            xlabel="time (s)",
+            ylabel=f"{axis.upper()} displacement (mm)",
+            title=f"({'ab'[row]}) fuselage vibration, {axis.upper()} axis",
+        )
         ax.legend(loc="upper right", fontsize=8)
         ax = axes[row, 1]
         spec = ds.amplitude_spectrum.sel(rotor="imbalanced", axis=axis)
         ax.semilogy(ds.omega, 1e3 * spec, "b-", lw=0.8)
         dominant = float(ds.dominant_omega.sel(rotor="imbalanced", axis=axis))
         ax.axvline(dominant, color="k", ls="--", lw=0.8, label=f"dominant {dominant:.2f} rad/s")
-        ax.set(xlim=(0, 120), xlabel="angular frequency (rad/s)", ylabel="amplitude (mm)",
-               title=f"{axis.upper()} spectrum, imbalanced rotor, {float(ds.time[-1]):.0f} s record")
+        ax.set(
+            xlim=(0, 120),
+            xlabel="angular frequency (rad/s)",
+            ylabel="amplitude (mm)",
+            title=f"{axis.upper()} spectrum, imbalanced rotor, {float(ds.time[-1]):.0f} s record",
+        )
         ax.legend(loc="upper right", fontsize=8)
     return fig
 
@@ -64,9 +77,13 @@ def campbell_figure(ds: xr.Dataset, marks: dict[str, float] | None = None, max_h
     for text, value in marks.items():
         ax.plot(nominal, value, "r*", ms=9)
         ax.annotate(text, (nominal, value), fontsize=8, color="r", xytext=(-110, 4), textcoords="offset points")
-    ax.set(xlabel="main rotor speed (rad/s)", ylabel="modal frequency, fixed frame (rad/s)",
-           ylim=(0, 1.05 * float(ds.frequency.max())), xlim=(0, 1.12 * speed[-1]),
-           title="Campbell diagram, balanced rotor, multiblade coordinates")
+    ax.set(
+        xlabel="main rotor speed (rad/s)",
+        ylabel="modal frequency, fixed frame (rad/s)",
+        ylim=(0, 1.05 * float(ds.frequency.max())),
+        xlim=(0, 1.12 * speed[-1]),
+        title="Campbell diagram, balanced rotor, multiblade coordinates",
+    )
     handles = [plt.Line2D([], [], color=c, label=f) for f, c in {**FAMILY_COLOURS, "fuselage": "k"}.items()]
     ax.legend(handles=handles, loc="upper left", fontsize=8, title="largest share", title_fontsize=8)
     return fig
@@ -76,8 +93,9 @@ def sensitivity_figure(ds: xr.Dataset):
     """Dominant Y and Z frequencies (top) and line amplitudes (bottom, with Z's 1/rev line dashed) against each
     parameter changed."""
     parameters = [p for p in dict.fromkeys(ds.parameter.values.tolist()) if p != "baseline"]
-    fig, axes = plt.subplots(2, len(parameters), figsize=(2.6 * len(parameters), 6), constrained_layout=True,
-                             squeeze=False)
+    fig, axes = plt.subplots(
+        2, len(parameters), figsize=(2.6 * len(parameters), 6), constrained_layout=True, squeeze=False
+    )
     base = ds.isel(run=np.flatnonzero(ds.parameter.values == "baseline"))
     for col, parameter in enumerate(parameters):
         runs = ds.isel(run=np.flatnonzero(ds.parameter.values == parameter))

@@ -24,7 +24,7 @@ def response_figure(
     fig = Figure(figsize=(8.0, 5.5), layout="constrained")
     axes = fig.subplots(2, 1, sharex=True)
     time = rigid["time"].values
-    for ax, axis in zip(axes, ("y", "z")):
+    for ax, axis in zip(axes, ("y", "z"), strict=True):
         mount = rigid["mount_displacement"].sel(axis=axis).values * MM_PER_M
         ax.plot(time, mount, color="0.6", lw=1.0, label="fuselage (mount) input")
         ax.plot(
