@@ -11,8 +11,11 @@ Windows are named spans [start, end] s of each run (config `reference_table.wind
 
 From a response dataset (`response_criteria`, the Exudyn path and the verification) the blur uses the exact
 pinhole projection (`uavdamp.camera`). The batched linear grid (`uavdamp.linear_plant.sine_criteria`) sums two
-single-axis responses, so it uses the first-order image path u = f_px (psi + y/D), v = f_px (z/D - theta),
-which is linear in the responses; `pair_blur_p95` then takes every pair's per-frame extent at once.
+single-axis responses, so it uses the first-order image path u = f_px (psi + y/D), v = f_px (z/D - theta), the
+sum of the two single-axis paths (choice: speed); `pair_blur_p95` then takes every pair's per-frame extent at
+once. Against the exact projection of the same responses the blur p95 differs by at most 0.70 % on the default
+grid (K = 3000 N/m near the isolator resonance, where the image moves 364 px), 6e-4 at 55 px, 4e-6 at 5 px
+(measured). Projecting every pair exactly costs 1.8 times the batched block (measured).
 
 Table ties: where several dampings give exactly the same minimum, the smallest damping is taken (numpy's
 argmin returns the first index, and the damping axis is increasing). Failed points (NaN) are ignored; a cell
@@ -90,20 +93,13 @@ def response_criteria(response: xr.Dataset, windows: dict, camera: CameraModel) 
 # ------------------------------------------------------------------------------------------ batched pairs
 
 
-def first_order_image_path(camera: CameraModel, y, z, yaw, pitch) -> np.ndarray:
-    """(u, v), px, stacked on a new axis 1: f_px (psi + y/D), f_px (z/D - theta) (`uavdamp.camera`, first order).
-
-    y, z (m), yaw, pitch (rad): arrays of one shape (time, ...); returns (time, 2, ...)."""
-    f, d = camera.focal_px, camera.scene_distance_m
-    return np.stack([f * (yaw + y / d), f * (z / d - pitch)], axis=1)
-
-
 def exposure_weights(time: np.ndarray, camera: CameraModel, window: tuple[float, float]):
-    """Sparse (n_frames m, n_time) interpolation matrix to each frame's exposure points, and (n_frames, m).
+    """Interpolation to each frame's exposure points: (weights, samples, shape).
 
-    The points are those `image_quality.frames_from_image_path` takes: the interpolated exposure ends
-    [t_a, t_b] and the samples strictly inside, padded with copies of t_b. Linear in the path, so it commutes
-    with the superposition of two responses."""
+    weights: sparse (n_frames m, n_samples) from the image path at time[samples] (the samples it touches, the
+    only ones the blur needs) to the points `image_quality.frames_from_image_path` takes: the interpolated
+    exposure ends [t_a, t_b] and the samples strictly inside, padded with copies of t_b; shape (n_frames, m).
+    """
     t_k = frame_starts(time, camera, *window)
     t_a = t_k + camera.line_time_s * (camera.image_height_px - 1) / 2
     t_b = t_a + camera.exposure_s
@@ -118,17 +114,27 @@ def exposure_weights(time: np.ndarray, camera: CameraModel, window: tuple[float,
     rows = np.repeat(np.arange(tau.size), 2)
     cols = np.stack([i.ravel(), i.ravel() + 1], axis=1).ravel()
     vals = np.stack([1 - w.ravel(), w.ravel()], axis=1).ravel()
-    return sparse.csr_matrix((vals, (rows, cols)), shape=(tau.size, time.size)), tau.shape
+    samples, cols = np.unique(cols, return_inverse=True)
+    return sparse.csr_matrix((vals, (rows, cols)), shape=(tau.size, samples.size)), samples, tau.shape
+
+
+def first_order_image_path(camera: CameraModel, channels: np.ndarray) -> np.ndarray:
+    """(u, v), px, to first order: f_px (psi + y/D), f_px (z/D - theta) (`uavdamp.camera`).
+
+    channels (time, 4, ...): camera y, z (m), yaw psi, pitch theta (rad); returns (time, 2, ...). Linear in
+    the channels, so the path of a sum of responses is the sum of their paths."""
+    f, d = camera.focal_px, camera.scene_distance_m
+    y, z, yaw, pitch = (channels[:, r] for r in range(4))
+    return np.stack([f * (yaw + y / d), f * (z / d - pitch)], axis=1)
 
 
 def pair_blur_p95(path_a: np.ndarray, path_b: np.ndarray, weights, shape: tuple[int, int]) -> np.ndarray:
     """95th percentile over frames of the blur of every summed path a[..., i] + b[..., j]: (n_a, n_b), px.
 
-    path_a (n_time, 2, n_a), path_b (n_time, 2, n_b): image paths (u, v) in px on the time grid of
-    `weights, shape = exposure_weights(...)`. Blur: the largest distance between two exposure points.
+    path_a (n_samples, 2, n_a), path_b (n_samples, 2, n_b): image paths (u, v) in px at the samples of
+    `weights, samples, shape = exposure_weights(...)`. Blur: the largest distance between two exposure points.
     """
-    n_time = path_a.shape[0]
-    pa, pb = ((weights @ p.reshape(n_time, -1)).reshape(*shape, 2, -1) for p in (path_a, path_b))
+    pa, pb = ((weights @ p.reshape(p.shape[0], -1)).reshape(*shape, 2, -1) for p in (path_a, path_b))
     points = pa[..., :, None] + pb[..., None, :]  # (frame, m, 2, n_a, n_b)
     blur = np.zeros((shape[0], pa.shape[-1], pb.shape[-1]))
     for lag in range(1, shape[1]):

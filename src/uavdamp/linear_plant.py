@@ -374,8 +374,8 @@ def sine_criteria(plant: LinearPlant, stiffness: float, damping: float, freq_y_h
     {name: (start, end)} s. The response to each axis's input is computed alone for all its frequencies and
     a pair's response is their sum: its variance over a window (1/N) is var_y-input + var_z-input + 2 cov, the
     covariances of all pairs one matrix product (displacement: camera y, z rows; line of sight: yaw, pitch rows,
-    linear outputs too). The blur sums the two first-order image paths (`criterion.first_order_image_path`),
-    then takes every pair's per-frame extent (`criterion.pair_blur_p95`).
+    linear outputs too). The blur sums the two first-order image paths (`criterion.first_order_image_path`) at
+    the samples the exposures touch, then takes every pair's per-frame extent (`criterion.pair_blur_p95`).
     """
     from uavdamp import criterion as crit
 
@@ -392,16 +392,14 @@ def sine_criteria(plant: LinearPlant, stiffness: float, damping: float, freq_y_h
         v0[axis] = 2 * np.pi * freqs * amplitude  # the sine's rate at t = 0
         z0 = plant.model.initial_state(np.zeros((2, freqs.size)), v0)
         per_axis.append(sine_outputs(cont, free, freqs, axis, amplitude, z0, np.arange(n), h, rows))  # (t, row, f)
-    out: dict[str, list] = {"displacement": [], "line_of_sight": []}
-    if camera is not None:
-        out["blur"] = []
-        paths = [crit.first_order_image_path(camera, *(x[:, r] for r in range(4))) for x in per_axis]
+    out: dict[str, list] = {"displacement": [], "line_of_sight": [], **({"blur": []} if camera else {})}
     for k, window in zip(steps, windows.values(), strict=True):
         a, b = (x[k] - x[k].mean(axis=0) for x in per_axis)
         out["displacement"].append(pair_criteria(a[:, :2], b[:, :2]))
         out["line_of_sight"].append(pair_criteria(a[:, 2:], b[:, 2:]))
         if camera is not None:
-            weights, shape = crit.exposure_weights(np.arange(n) * h, camera, window)
+            weights, samples, shape = crit.exposure_weights(np.arange(n) * h, camera, window)
+            paths = (crit.first_order_image_path(camera, x[samples]) for x in per_axis)
             out["blur"].append(crit.pair_blur_p95(*paths, weights, shape))
     return {name: np.array(values) for name, values in out.items()}
 
