@@ -149,3 +149,26 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
         edited = {**quick, **{k: {**quick.get(k, {}), **v} for k, v in edit.items()}}
         (work / "config" / f"edit_{name}.yaml").write_text(yaml.safe_dump(edited))
         assert _planned(work, f"config/edit_{name}.yaml") == expected, name
+
+
+def test_figures_draw_every_criterion_window_and_strategy():
+    """The criteria heatmaps: one column per (criterion, window), one row per K, the learnt one marked; the blur
+    and sharp-frame figures: one panel per (case, K), one box or bar per strategy."""
+    from uavdamp.plots.reference_table import criteria_figure
+    from uavdamp.plots.study import blur_distribution_figure, sharp_fraction_figure
+
+    rng = np.random.default_rng(4)
+    table = criterion.reference_table(synthetic_grid(rng.uniform(1, 2, (3, 2, 3, 2, 2, 4)), ("transient", "steady")))
+    table.attrs.update(criterion="blur", window="steady")
+    fig = criteria_figure(table)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert sum("gain" in t for t in titles) == 3 * 2 * 2 and any("blur, steady (learnt)" in t for t in titles)
+    blur = rng.lognormal(0, 1, (2, 2, 3, 30))
+    ds = xr.Dataset({"frame_blur": (("case", "stiffness", "strategy", "frame"), blur),
+                     "sharp_fraction": (("case", "stiffness", "strategy"), (blur <= 1).mean(-1))},
+                    coords={"case": ["case1", "case2"], "stiffness": [10.0, 1000.0],
+                            "strategy": ["passive", "anfis", "skyhook"]}, attrs={"camera_sharp_threshold_px": 1.0})
+    fig = blur_distribution_figure(ds)
+    assert len(fig.axes) == 4 and all(len(ax.get_xticklabels()) == 3 for ax in fig.axes)
+    bars = sharp_fraction_figure(ds).axes[0].patches
+    np.testing.assert_allclose(sorted(b.get_height() for b in bars), np.sort(ds.sharp_fraction.values.ravel()))
