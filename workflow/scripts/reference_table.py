@@ -21,7 +21,7 @@ full = full.assign(checked.data_vars)
 full.attrs.update(checked.attrs)
 largest = checked.verify_relative_difference.max(["verify", "window"])
 workflow.log_info(f"verification: {check.n_points} points, largest relative difference linear vs Exudyn per "
-                  f"criterion {dict(zip(largest.criterion.values, largest.values.round(5), strict=True))} "
+                  f"criterion {dict(zip(largest.criterion.values, largest.values.round(5).tolist(), strict=True))} "
                   f"(tolerance {check.tolerance})")
 grid.check_verification(spec, checked, check.tolerance)  # raises VerificationFailed naming the worst point
 table = criterion.reference_table(full, snakemake.params.flat_tolerance)
