@@ -1,8 +1,10 @@
 """Reference-table grid search: the camera criterion over (f_y, f_z, K, C), in chunks, with joblib.
 
 Each grid point drives the isolated platform with y = A sin(2 pi f_y t), z = A sin(2 pi f_z t)
-at stiffness K and constant damping C; the criterion is sqrt(sigma_y^2 + sigma_z^2), the
-standard deviations (1/N, the paper's Eq. 1) of the camera displacement over a window.
+at stiffness K and constant damping C for `duration` s; every criterion of `uavdamp.criterion`
+(displacement, the paper's; line_of_sight; blur, with a camera) is scored over every named window
+(`transient`, `steady`, ...) of that one run. The grid holds one variable per criterion
+(`criterion_<name>` over (window, freq_y, freq_z, stiffness, damping)): each has its own units.
 
 Two plants (config `platform.backend`): "linear" (default; `uavdamp.linear_plant`, every (f_y, f_z)
 of one (K, C) at once from one discretisation) or "exudyn" (time stepping, point by point).
@@ -23,6 +25,7 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import criterion as crit
+from uavdamp.camera import CameraModel
 from uavdamp.contract import SolverFailed
 from uavdamp.excitation import sine_input
 from uavdamp.linear_plant import LinearPlant, sine_criteria
@@ -69,10 +72,17 @@ class GridSpec:
     damping: np.ndarray  # N s m-1
     amplitude: float  # m
     duration: float  # s
-    window: tuple[float, float]  # s, criterion window [start, end]
+    windows: dict  # {name: (start, end)} s, criterion windows
+    camera: CameraModel | None = None  # the blur criterion's camera; None: no blur criterion
 
     @classmethod
-    def from_config(cls, cfg: dict) -> GridSpec:
+    def from_config(cls, cfg: dict, camera: dict | CameraModel | None = None) -> GridSpec:
+        """From the `reference_table` section (and the `camera` section); checks `criterion` and `window`
+        (the table's choice) where the section holds them."""
+        if not isinstance(cfg.get("windows"), dict) or not cfg["windows"]:
+            raise ValueError("reference_table.windows: need a mapping {name: [start, end]} s")
+        if camera is not None and not isinstance(camera, CameraModel):
+            camera = CameraModel.from_config(camera)
         spec = cls(
             freq_y=axis_values(cfg["freq_y_hz"], "freq_y_hz"),
             freq_z=axis_values(cfg["freq_z_hz"], "freq_z_hz"),
@@ -80,9 +90,12 @@ class GridSpec:
             damping=axis_values(cfg["damping"], "damping"),
             amplitude=float(cfg["amplitude"]),
             duration=float(cfg["duration"]),
-            window=(float(cfg["window"][0]), float(cfg["window"][1])),
+            windows={str(name): (float(w[0]), float(w[1])) for name, w in cfg["windows"].items()},
+            camera=camera,
         )
         spec.validate()
+        if "criterion" in cfg or "window" in cfg:
+            crit.check_choice(cfg.get("criterion"), cfg.get("window"), spec.windows)
         return spec
 
     def validate(self) -> None:
@@ -92,10 +105,28 @@ class GridSpec:
                 raise ValueError(f"reference_table.{key}: values must be positive")
         if not self.amplitude > 0:
             raise ValueError(f"reference_table.amplitude: must be positive, got {self.amplitude}")
-        start, end = self.window
-        if not 0 <= start < end <= self.duration:
-            raise ValueError(f"reference_table.window: need 0 <= start < end <= duration ({self.duration} s), "
-                             f"got {list(self.window)}")
+        for name, (start, end) in self.windows.items():
+            if not 0 <= start < end <= self.duration:
+                raise ValueError(f"reference_table.windows.{name}: need 0 <= start < end <= duration "
+                                 f"({self.duration} s), got {[start, end]}")
+
+    @property
+    def criteria(self) -> tuple[str, ...]:
+        """The criteria this grid scores (`criterion.CRITERIA` order; blur only with a camera)."""
+        return tuple(name for name in crit.CRITERIA if name != "blur" or self.camera is not None)
+
+    @property
+    def n_values(self) -> tuple[int, int]:
+        """(criteria, windows) per point."""
+        return len(self.criteria), len(self.windows)
+
+    def window_coords(self) -> dict:
+        """The `window` coordinate (names) with its start and end, s."""
+        names = np.array(list(self.windows), dtype=object)
+        bounds = np.array(list(self.windows.values()))
+        return {"window": ("window", names, crit.WINDOW_ATTRS),
+                "window_start": ("window", bounds[:, 0], {"units": "s", "long_name": "criterion window start"}),
+                "window_end": ("window", bounds[:, 1], {"units": "s", "long_name": "criterion window end"})}
 
     def check_damper_bounds(self, params: PlatformParams) -> None:
         """The damping axis must lie within the platform's damper bounds (else C would be clipped)."""
@@ -147,7 +178,7 @@ class VerifySpec:
     """The pipeline's check of the grid against the Exudyn plant (config `reference_table.verify`)."""
 
     n_points: int  # points rerun, the grid's corners first
-    tolerance: float  # 1, largest relative criterion difference allowed
+    tolerance: dict  # 1, largest relative difference allowed per criterion (a number in the config: every one)
     seed: int  # of the random points beyond the corners
 
     @classmethod
@@ -155,11 +186,20 @@ class VerifySpec:
         unknown = sorted(set(cfg) - {"n_points", "tolerance", "seed"})
         if unknown:
             raise ValueError(f"reference_table.verify: unknown key(s) {unknown}")
-        spec = cls(n_points=int(cfg["n_points"]), tolerance=float(cfg["tolerance"]), seed=int(cfg["seed"]))
+        given = cfg["tolerance"]
+        tolerance = ({str(k): float(v) for k, v in given.items()} if isinstance(given, dict)
+                     else dict.fromkeys(crit.CRITERIA, float(given)))
+        spec = cls(n_points=int(cfg["n_points"]), tolerance=tolerance, seed=int(cfg["seed"]))
         if spec.n_points < 1:
             raise ValueError(f"reference_table.verify.n_points: must be >= 1, got {spec.n_points}")
-        if not spec.tolerance > 0:
-            raise ValueError(f"reference_table.verify.tolerance: must be > 0, got {spec.tolerance}")
+        for name, value in tolerance.items():
+            if name not in crit.CRITERIA:
+                raise ValueError(f"reference_table.verify.tolerance: {name!r} is not one of {list(crit.CRITERIA)}")
+            if not value > 0:
+                raise ValueError(f"reference_table.verify.tolerance: must be > 0, got {value} ({name})")
+        missing = sorted(set(crit.CRITERIA) - set(tolerance))
+        if missing:
+            raise ValueError(f"reference_table.verify.tolerance: no tolerance for {missing}")
         return spec
 
 
@@ -192,33 +232,39 @@ def _plant(platform: dict, backend: str) -> tuple[ExudynPlant | LinearPlant, flo
     return cached[backend], time.perf_counter() - t0
 
 
-def evaluate(sim: ExudynPlant, spec: GridSpec, point: tuple[float, float, float, float]) -> float:
-    """Criterion, m, of one grid point with the Exudyn plant (raises SolverFailed if the solver stops)."""
+def evaluate(sim: ExudynPlant, spec: GridSpec, point: tuple[float, float, float, float]) -> np.ndarray:
+    """Criteria (criteria, windows) of one grid point with the Exudyn plant (raises SolverFailed if it stops)."""
     freq_y, freq_z, stiffness, damping = point
     t, y, z = sine_input(freq_y, freq_z, spec.amplitude, spec.duration, sim.params.time_step)
     ds = sim.run(t, y, z, stiffness=stiffness, law=damping)
-    return crit.camera_criterion(ds.camera_displacement, spec.window)
+    if spec.camera is None:
+        return np.array([[crit.camera_criterion(ds.camera_displacement, w) for w in spec.windows.values()],
+                         [crit.line_of_sight_criterion(ds, w) for w in spec.windows.values()]])
+    return crit.response_criteria(ds, spec.windows, spec.camera)
 
 
 def evaluate_block(plant: LinearPlant, spec: GridSpec, block: int) -> np.ndarray:
-    """Criteria, m, of every (f_y, f_z) of one (K, C) block with the linear plant, C order over (f_y, f_z)."""
+    """Criteria of every (f_y, f_z) of one (K, C) block with the linear plant: (f_y x f_z in C order, criteria,
+    windows)."""
     ik, ic = divmod(int(block), spec.damping.size)
     values = sine_criteria(plant, spec.stiffness[ik], spec.damping[ic], spec.freq_y, spec.freq_z, spec.amplitude,
-                           spec.duration, spec.window)
-    return values.ravel()
+                           spec.duration, spec.windows, spec.camera)
+    stacked = np.stack([values[name] for name in spec.criteria])  # (criteria, windows, f_y, f_z)
+    return stacked.reshape(*spec.n_values, -1).transpose(2, 0, 1)
 
 
 def evaluate_batch(platform: dict, spec: GridSpec, blocks: np.ndarray, backend: str = "linear") -> dict:
     """Criteria of every point of `blocks`; failures become NaN with a flag and the error text.
 
-    Returns arrays over the blocks' points and the time spent building, in the plant and in total (s).
+    Returns arrays over the blocks' points (criterion: (points, criteria, windows)) and the time spent
+    building, in the plant and in total (s).
     """
     from threadpoolctl import threadpool_limits
 
     t0 = time.perf_counter()
     plant, build_time = _plant(platform, backend)
     indices = np.concatenate([block_points(spec, b) for b in blocks])
-    values = np.full(indices.size, np.nan)
+    values = np.full((indices.size, *spec.n_values), np.nan)
     failed = np.zeros(indices.size, dtype=np.int8)
     errors: list[str] = []
     solve_time = 0.0
@@ -243,9 +289,16 @@ def evaluate_batch(platform: dict, spec: GridSpec, blocks: np.ndarray, backend: 
                     failed[k] = 1
                     errors.append(f"point {index} {spec.point(index)}: {error}")
                 solve_time += plant.solve_time
-    failed[np.isnan(values)] = 1
+    failed[np.isnan(values).any(axis=(1, 2))] = 1
+    values[failed == 1] = np.nan
     return {"indices": indices, "criterion": values, "failed": failed, "errors": errors,
             "build_time": build_time, "solve_time": solve_time, "wall_time": time.perf_counter() - t0}
+
+
+def criterion_variables(spec: GridSpec, values: np.ndarray, dims: tuple[str, ...]) -> dict:
+    """{criterion_<name>: (("window", *dims), values of that criterion, attrs)} from (..., criteria, windows)."""
+    return {crit.variable(name): (("window", *dims), np.moveaxis(values[..., j, :], -1, 0), crit.CRITERIA[name])
+            for j, name in enumerate(spec.criteria)}
 
 
 def _fan_out(function, batches: list, n_jobs: int, progress: bool) -> list:
@@ -263,8 +316,8 @@ def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int =
               batches_per_job: int = 4, progress: bool = False) -> xr.Dataset:
     """Evaluate one chunk's points with `n_jobs` joblib workers on the plant `platform.backend` names.
 
-    Returns a dataset over `point` (flat grid index) with `criterion`, m, and `failed`, 1; the plant,
-    timing and failure counts in its attributes.
+    Returns a dataset over `point` (flat grid index) with `criterion_<name>` (window, point) per criterion
+    and `failed`, 1; the plant, timing and failure counts in its attributes.
     """
     from functools import partial
 
@@ -275,16 +328,15 @@ def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int =
     batches = [b for b in np.array_split(blocks, n_batches) if b.size]
     parts = _fan_out(partial(evaluate_batch, model, spec, backend=backend), batches, n_jobs, progress)
     indices = np.concatenate([p["indices"] for p in parts]) if parts else np.empty(0, dtype=int)
-    criterion = np.concatenate([p["criterion"] for p in parts]) if parts else np.empty(0)
+    criterion = np.concatenate([p["criterion"] for p in parts]) if parts else np.empty((0, *spec.n_values))
     failed = np.concatenate([p["failed"] for p in parts]) if parts else np.empty(0, dtype=np.int8)
     errors = [e for p in parts for e in p["errors"]]
     order = np.argsort(indices, kind="stable")  # CF: a coordinate is strictly monotonic
     indices, criterion, failed = indices[order], criterion[order], failed[order]
     point_attrs = {"units": "1", "long_name": POINT_LABEL}
     return xr.Dataset(
-        {"criterion": ("point", criterion, crit.CRITERION_ATTRS),
-         "failed": ("point", failed, FAILED_ATTRS)},
-        coords={"point": ("point", indices, point_attrs)},
+        {**criterion_variables(spec, criterion, ("point",)), "failed": ("point", failed, FAILED_ATTRS)},
+        coords={"point": ("point", indices, point_attrs), **spec.window_coords()},
         attrs={"plant": backend, "chunk": chunk, "n_chunks": n_chunks, "n_jobs": n_jobs,
                "n_failed": int(failed.sum()), "errors": json.dumps(errors),
                "build_time_s": sum(p["build_time"] for p in parts),
@@ -299,36 +351,42 @@ def _progress(iterable, total: int, show: bool):
 
 
 def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:
-    """The full grid from chunk datasets: `criterion` and `failed` over (freq_y, freq_z, stiffness, damping).
+    """The full grid from chunk datasets: `criterion_<name>` over (window, freq_y, freq_z, stiffness, damping)
+    per criterion, and `failed` over (freq_y, freq_z, stiffness, damping).
 
     Raises ValueError if a point is missing or present twice (no point is silently dropped), or if the
     chunks come from different plants.
     """
-    criterion = np.full(spec.size, np.nan)
+    criterion = np.full((spec.size, *spec.n_values), np.nan)
     failed = np.zeros(spec.size, dtype=np.int8)
     seen = np.zeros(spec.size, dtype=int)
     for ds in chunks:
         idx = ds.point.values.astype(int)
-        criterion[idx] = ds.criterion.values
+        missing = [crit.variable(n) for n in spec.criteria if crit.variable(n) not in ds]
+        if missing or list(ds.window.values) != list(spec.windows):
+            raise ValueError(f"a chunk lacks {missing} or has windows {list(ds.window.values)} (the grid: "
+                             f"{list(spec.windows)}): rerun the chunks")
+        criterion[idx] = np.stack([ds[crit.variable(n)].transpose("point", "window").values
+                                   for n in spec.criteria], axis=1)
         failed[idx] = ds.failed.values
         np.add.at(seen, idx, 1)
     if np.any(seen != 1):
         missing, doubled = np.flatnonzero(seen == 0), np.flatnonzero(seen > 1)
         raise ValueError(f"chunks do not cover the grid exactly: {missing.size} points missing "
                          f"(first {missing[:5].tolist()}), {doubled.size} present twice")
-    if np.any(np.isnan(criterion) & (failed == 0)):
+    if np.any(np.isnan(criterion).any(axis=(1, 2)) & (failed == 0)):
         raise ValueError("a point has no criterion but is not flagged as failed")
     plants = sorted({ds.attrs.get("plant", "exudyn") for ds in chunks})
     if len(plants) > 1:
         raise ValueError(f"chunks come from different plants {plants}: rerun the grid with one platform.backend")
     errors = [e for ds in chunks for e in json.loads(ds.attrs.get("errors", "[]"))]
     return xr.Dataset(
-        {"criterion": (DIMS, criterion.reshape(spec.shape), crit.CRITERION_ATTRS),
+        {**criterion_variables(spec, criterion.reshape(*spec.shape, *spec.n_values), DIMS),
          "failed": (DIMS, failed.reshape(spec.shape), FAILED_ATTRS)},
-        coords=spec.coords(),
+        coords={**spec.coords(), **spec.window_coords()},
         attrs={"plant": plants[0] if plants else "linear", "n_points": spec.size, "n_failed": int(failed.sum()),
                "errors": json.dumps(errors), "amplitude_m": spec.amplitude, "duration_s": spec.duration,
-               "window_s": list(spec.window),
+               "criteria": list(spec.criteria), **(spec.camera.attrs() if spec.camera else {}),
                "solver_time_s": float(sum(ds.attrs.get("solver_time_s", 0.0) for ds in chunks)),
                "build_time_s": float(sum(ds.attrs.get("build_time_s", 0.0) for ds in chunks)),
                "worker_time_s": float(sum(ds.attrs.get("worker_time_s", 0.0) for ds in chunks))},
@@ -356,17 +414,18 @@ def verification_points(spec: GridSpec, n_points: int, seed: int) -> np.ndarray:
 
 
 def evaluate_points(platform: dict, spec: GridSpec, indices: np.ndarray, backend: str) -> np.ndarray:
-    """Criterion, m, of single points with one plant (NaN where the Exudyn solver fails)."""
+    """Criteria (points, criteria, windows) of single points with one plant (NaN where the Exudyn solver fails)."""
     from threadpoolctl import threadpool_limits
 
     plant, _ = _plant(platform, backend)
-    values = np.full(len(indices), np.nan)
+    values = np.full((len(indices), *spec.n_values), np.nan)
     with threadpool_limits(limits=1):
         for k, index in enumerate(indices):
             fy, fz, stiffness, damping = spec.point(int(index))
             if backend == "linear":
-                values[k] = sine_criteria(plant, stiffness, damping, [fy], [fz], spec.amplitude, spec.duration,
-                                          spec.window)[0, 0]
+                one = sine_criteria(plant, stiffness, damping, [fy], [fz], spec.amplitude, spec.duration,
+                                    spec.windows, spec.camera)
+                values[k] = [one[name][:, 0, 0] for name in spec.criteria]
                 continue
             try:
                 values[k] = evaluate(plant, spec, (fy, fz, stiffness, damping))
@@ -375,17 +434,24 @@ def evaluate_points(platform: dict, spec: GridSpec, indices: np.ndarray, backend
     return values
 
 
+def grid_values(spec: GridSpec, full: xr.Dataset) -> np.ndarray:
+    """The grid's criteria as (points in flat order, criteria, windows)."""
+    return np.stack([full[crit.variable(n)].transpose(*DIMS, "window").values.reshape(spec.size, -1)
+                     for n in spec.criteria], axis=1)
+
+
 def verify(platform: dict, spec: GridSpec, full: xr.Dataset, check: VerifySpec, n_jobs: int = 1) -> xr.Dataset:
     """Rerun `check.n_points` points with the Exudyn plant (and the linear one where the grid is Exudyn's).
 
-    Returns `verify_point`, `verify_criterion_linear`, `verify_criterion_exudyn`, `verify_relative_difference`
-    over `verify`, and the scalar `verify_max_relative_difference` (inf where an Exudyn run failed).
+    Returns `verify_point` (verify), `verify_<criterion>_linear` and `_exudyn` (verify, window) per criterion,
+    `verify_relative_difference` (verify, criterion, window) and the scalar `verify_max_relative_difference`
+    (inf where an Exudyn run failed).
     """
     from functools import partial
 
     backend, model = split_platform(platform)
     points = verification_points(spec, check.n_points, check.seed)
-    on_grid = full.criterion.transpose(*DIMS).values.ravel()[points]
+    on_grid = grid_values(spec, full)[points]
     batches = [b for b in np.array_split(points, max(1, min(points.size, 2 * n_jobs))) if b.size]
     other = "exudyn" if backend == "linear" else "linear"
     rerun = np.concatenate(_fan_out(partial(evaluate_points, model, spec, backend=other), batches, n_jobs, False))
@@ -393,27 +459,34 @@ def verify(platform: dict, spec: GridSpec, full: xr.Dataset, check: VerifySpec, 
     with np.errstate(divide="ignore", invalid="ignore"):
         relative = np.abs(linear - exudyn) / np.abs(exudyn)
     relative = np.where(np.isfinite(relative), relative, np.inf)
-    metres = crit.CRITERION_ATTRS["units"]
-    return xr.Dataset(
-        {"verify_point": ("verify", points, {"units": "1", "long_name": POINT_LABEL}),
-         "verify_criterion_linear": ("verify", linear, {"units": metres, "long_name": "criterion, linear plant"}),
-         "verify_criterion_exudyn": ("verify", exudyn, {"units": metres, "long_name": "criterion, Exudyn plant"}),
-         "verify_relative_difference": ("verify", relative, {"units": "1", "long_name": "|linear - Exudyn| / Exudyn"}),
-         "verify_max_relative_difference": ((), float(relative.max()), {
-             "units": "1", "long_name": "largest relative criterion difference, linear vs Exudyn plant"})},
-        attrs={"verify_seed": check.seed, "verify_tolerance": check.tolerance},
-    )
+    data = {"verify_point": ("verify", points, {"units": "1", "long_name": POINT_LABEL}),
+            "verify_relative_difference": (("verify", "criterion", "window"), relative,
+                                           {"units": "1", "long_name": "|linear - Exudyn| / Exudyn"}),
+            "verify_max_relative_difference": ((), float(relative.max()), {
+                "units": "1", "long_name": "largest relative criterion difference, linear vs Exudyn plant"})}
+    for j, name in enumerate(spec.criteria):
+        for plant, values in (("linear", linear), ("exudyn", exudyn)):
+            data[f"verify_{name}_{plant}"] = (("verify", "window"), values[:, j], {
+                "units": crit.CRITERIA[name]["units"], "long_name": f"{name} criterion, {plant} plant"})
+    coords = {"criterion": ("criterion", np.array(spec.criteria, dtype=object),
+                            {"units": "1", "long_name": "camera criterion"}), **spec.window_coords()}
+    tolerance = json.dumps(check.tolerance, sort_keys=True)
+    return xr.Dataset(data, coords=coords, attrs={"verify_seed": check.seed, "verify_tolerance": tolerance})
 
 
-def check_verification(spec: GridSpec, checked: xr.Dataset, tolerance: float) -> None:
-    """Raise VerificationFailed naming the worst point if the largest relative difference exceeds `tolerance`."""
-    relative = checked.verify_relative_difference.values
-    worst = int(np.argmax(relative))
-    if relative[worst] > tolerance:
-        index = int(checked.verify_point.values[worst])
+def check_verification(spec: GridSpec, checked: xr.Dataset, tolerance: float | dict) -> None:
+    """Raise VerificationFailed naming the worst point, criterion and window if a relative difference exceeds
+    its criterion's `tolerance` (a number: every criterion's)."""
+    relative = checked.verify_relative_difference.transpose("verify", "criterion", "window").values
+    limit = np.array([tolerance[n] if isinstance(tolerance, dict) else tolerance for n in spec.criteria])
+    p, j, w = np.unravel_index(int(np.argmax(relative / limit[:, None])), relative.shape)
+    if relative[p, j, w] > limit[j]:
+        index = int(checked.verify_point.values[p])
         fy, fz, k, c = spec.point(index)
-        linear, exudyn = (checked[f"verify_criterion_{name}"].values[worst] for name in ("linear", "exudyn"))
+        name, window = spec.criteria[j], list(spec.windows)[w]
+        units = crit.CRITERIA[name]["units"]
+        linear, exudyn = (checked[f"verify_{name}_{plant}"].values[p, w] for plant in ("linear", "exudyn"))
         raise VerificationFailed(
-            f"linear and Exudyn plants differ by {relative[worst]:.3%} (tolerance {tolerance:.3%}) at point {index} "
-            f"(f_y {fy:g} Hz, f_z {fz:g} Hz, K {k:g} N/m, C {c:g} N s/m): linear "
-            f"{linear:.6g} m, Exudyn {exudyn:.6g} m")
+            f"linear and Exudyn plants differ by {relative[p, j, w]:.3%} (tolerance {limit[j]:.3%}) in the {name} "
+            f"criterion, window {window}, at point {index} (f_y {fy:g} Hz, f_z {fz:g} Hz, K {k:g} N/m, C {c:g} "
+            f"N s/m): linear {linear:.6g} {units}, Exudyn {exudyn:.6g} {units}")

@@ -43,6 +43,21 @@ def table_samples(table: xr.Dataset, target: str = "damping_opt") -> tuple[np.nd
     return X[keep], y[keep], int((~keep).sum())
 
 
+def select_target(table: xr.Dataset, grid: xr.Dataset | None, target: dict | None):
+    """The table and grid of the criterion and window `target` = {"criterion", "window"} names (config
+    `reference_table`): `damping_opt` over INPUTS and the grid's `criterion` over (INPUTS, damping).
+    None: the table and grid as given (they already hold one criterion)."""
+    if target is None:
+        return table, grid
+    from uavdamp import criterion as crit
+
+    chosen = crit.select_table(table, target["criterion"], target["window"])
+    if grid is not None:
+        values = crit.select_grid(grid, target["criterion"], target["window"])
+        grid = xr.Dataset({"criterion": values.reset_coords(drop=True)})
+    return chosen, grid
+
+
 def split(n: int, train_fraction: float, seed: int) -> np.ndarray:
     """Boolean mask of the training rows: a seeded random `train_fraction` of n (at least one of each)."""
     if not 0 < train_fraction < 1:
@@ -240,14 +255,19 @@ def _epoch_record(fitted: ANFIS, mode: str, validation_fraction: float) -> xr.Da
     )
 
 
-def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict) -> tuple[TableModel, xr.Dataset, dict]:
+def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict,
+          target: dict | None = None) -> tuple[TableModel, xr.Dataset, dict]:
     """Select, fit and check the ANFIS and the baselines; return the ANFIS, the record, fit times (s).
+
+    target: {"criterion", "window"} of a table and grid over every criterion and window (`select_target`);
+    the ANFIS learns that criterion's optimal C and the regret uses its grid slice.
 
     With the `grid` (criterion over C) the record also holds each cell's regret per model: the
     criterion at the predicted C over the best criterion (1 = as good as the table's optimum).
     The fit times are apart from the record, which is identical on two runs.
     """
     mode, candidates, folds, names = _check_options(options)
+    table, grid = select_target(table, grid, target)
     X, y, dropped = table_samples(table)
     is_train = split(y.size, float(options["train_fraction"]), int(options["seed"]))
     models, cv, times = _fit_models(X, y, is_train, options, mode, candidates, folds, names)
@@ -284,6 +304,8 @@ def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict) -> tuple[Ta
         "check_mean_relative_error": float(np.mean(rel[~is_train])),
         "check_median_relative_error": float(anfis.check_median_relative_error),
     }
+    if target is not None:
+        record.attrs.update(criterion=target["criterion"], window=target["window"])
     if grid is not None:
         record.attrs["check_regret_mean"] = float(anfis.check_regret_mean)
         record.attrs["check_regret_max"] = float(anfis.check_regret_max)

@@ -366,28 +366,42 @@ def window_steps(duration: float, window: tuple[float, float], h: float) -> np.n
 
 
 def sine_criteria(plant: LinearPlant, stiffness: float, damping: float, freq_y_hz, freq_z_hz, amplitude: float,
-                  duration: float, window: tuple[float, float]) -> np.ndarray:
-    """Criterion sqrt(sigma_y^2 + sigma_z^2), m, of every (f_y, f_z) pair at constant (K, C): (n_fy, n_fz).
+                  duration: float, windows: dict, camera=None) -> dict[str, np.ndarray]:
+    """Every criterion (`uavdamp.criterion`) of every (f_y, f_z) pair at constant (K, C) and every window.
 
-    Inputs y = A sin(2 pi f_y t), z = A sin(2 pi f_z t) exactly (m, from rest as the Exudyn plant starts).
-    The response to each axis's input is computed alone for all its frequencies; the pair's camera
-    displacement is their sum, so its variance over the window (1/N) is var_y-input + var_z-input +
-    2 cov, the covariances of all pairs one matrix product.
+    Returns {criterion: (n_windows, n_fy, n_fz)} in `windows` order (blur only with a `camera`). Inputs
+    y = A sin(2 pi f_y t), z = A sin(2 pi f_z t) exactly (m, from rest as the Exudyn plant starts); windows
+    {name: (start, end)} s. The response to each axis's input is computed alone for all its frequencies and
+    a pair's response is their sum: its variance over a window (1/N) is var_y-input + var_z-input + 2 cov, the
+    covariances of all pairs one matrix product (displacement: camera y, z rows; line of sight: yaw, pitch rows,
+    linear outputs too). The blur sums the two first-order image paths (`criterion.first_order_image_path`) at
+    the samples the exposures touch, then takes every pair's per-frame extent (`criterion.pair_blur_p95`).
     """
+    from uavdamp import criterion as crit
+
     h = plant.params.time_step
-    k = window_steps(duration, window, h)
+    steps = [window_steps(duration, window, h) for window in windows.values()]
+    n = int(max(k[-1] for k in steps)) + 1
     cont, step = plant.step_map(stiffness, damping)
-    rows = [OUTPUTS.index("camera_y"), OUTPUTS.index("camera_z")]
-    free = free_response_rows(cont.c[rows], step.phi, int(k[-1]) + 1)[k]
-    centred = []
+    rows = [OUTPUTS.index(name) for name in ("camera_y", "camera_z", "yaw", "pitch")]
+    free = free_response_rows(cont.c[rows], step.phi, n)
+    per_axis = []
     for axis, freqs in enumerate((freq_y_hz, freq_z_hz)):
         freqs = np.asarray(freqs, dtype=float)
         v0 = np.zeros((2, freqs.size))
         v0[axis] = 2 * np.pi * freqs * amplitude  # the sine's rate at t = 0
         z0 = plant.model.initial_state(np.zeros((2, freqs.size)), v0)
-        out = sine_outputs(cont, free, freqs, axis, amplitude, z0, k, h, rows)  # (time, camera axis, freq)
-        centred.append(out - out.mean(axis=0))
-    return pair_criteria(*centred)
+        per_axis.append(sine_outputs(cont, free, freqs, axis, amplitude, z0, np.arange(n), h, rows))  # (t, row, f)
+    out: dict[str, list] = {"displacement": [], "line_of_sight": [], **({"blur": []} if camera else {})}
+    for k, window in zip(steps, windows.values(), strict=True):
+        a, b = (x[k] - x[k].mean(axis=0) for x in per_axis)
+        out["displacement"].append(pair_criteria(a[:, :2], b[:, :2]))
+        out["line_of_sight"].append(pair_criteria(a[:, 2:], b[:, 2:]))
+        if camera is not None:
+            weights, samples, shape = crit.exposure_weights(np.arange(n) * h, camera, window)
+            paths = (crit.first_order_image_path(camera, x[samples]) for x in per_axis)
+            out["blur"].append(crit.pair_blur_p95(*paths, weights, shape))
+    return {name: np.array(values) for name, values in out.items()}
 
 
 def pair_criteria(a: np.ndarray, b: np.ndarray) -> np.ndarray:

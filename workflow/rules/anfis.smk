@@ -33,5 +33,6 @@ rule anfis:
         ENV
     params:
         anfis=ANFIS,
+        target=REFERENCE_TARGET,
     script:
         "../scripts/anfis_train.py"

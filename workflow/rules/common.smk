@@ -11,6 +11,14 @@ ENV = "../envs/uavdamp.yaml"
 
 PLATFORM = canonical(config["platform"])
 PLATFORM_MODEL = config_view(config["platform"], drop=["response"])
+# The grid's chunks see what they compute: the grid, its windows and the camera (the blur criterion); not the
+# criterion and window the ANFIS learns (REFERENCE_TARGET), so choosing another reruns the table, not the grid.
+REFERENCE_GRID = config_view(
+    config["reference_table"],
+    drop=["n_chunks", "threads", "flat_tolerance", "verify", "criterion", "window"],
+)
+REFERENCE_CAMERA = canonical(config["camera"])
+REFERENCE_TARGET = config_view(config["reference_table"], keep=["criterion", "window"])
 ANFIS = canonical(config["anfis"])
 STUDY_EXCITATION = config_view(
     config["study"], keep=["cases", "duration_s", "highpass_hz", "tracking"]

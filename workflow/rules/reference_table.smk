@@ -1,10 +1,3 @@
-# The grid's chunks see only what they compute (no verify, chunking, threads or table keys): a change of the
-# verification or the table reruns the gather job alone.
-REFERENCE_CHUNK_GRID = config_view(
-    config["reference_table"], drop=["n_chunks", "threads", "flat_tolerance", "verify"]
-)
-
-
 rule reference_table_chunk:
     output:
         "reports/reference_table/chunks/{scatteritem}.nc",
@@ -16,7 +9,8 @@ rule reference_table_chunk:
         ENV
     threads: config["reference_table"]["threads"]
     params:
-        grid=REFERENCE_CHUNK_GRID,
+        grid=REFERENCE_GRID,
+        camera=REFERENCE_CAMERA,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/reference_table_chunk.py"
@@ -33,6 +27,11 @@ rule reference_table:
             caption="../report/reference_table.rst",
             category="Reference table",
         ),
+        criteria=report(
+            "reports/figures/reference_table_criteria.png",
+            caption="../report/reference_table_criteria.rst",
+            category="Reference table",
+        ),
     log:
         "reports/logs/reference_table/gather.log",
     benchmark:
@@ -41,7 +40,9 @@ rule reference_table:
         ENV
     threads: config["reference_table"]["threads"]
     params:
-        grid=REFERENCE_CHUNK_GRID,
+        grid=REFERENCE_GRID,
+        camera=REFERENCE_CAMERA,
+        target=REFERENCE_TARGET,
         platform=PLATFORM_MODEL,
         verify=canonical(config["reference_table"]["verify"]),
         flat_tolerance=config["reference_table"]["flat_tolerance"],

@@ -40,6 +40,16 @@ rule study:
             caption="../report/study_fig13.rst",
             category="Study",
         ),
+        blur=report(
+            "reports/figures/study_blur.png",
+            caption="../report/study_blur.rst",
+            category="Study",
+        ),
+        sharp=report(
+            "reports/figures/study_sharp_frames.png",
+            caption="../report/study_sharp_frames.rst",
+            category="Study",
+        ),
         strategies=report(
             directory("reports/figures/study_strategies"),
             patterns=["{case}.png"],

@@ -6,7 +6,9 @@ from uavdamp.plots.anfis import membership_figure, selection_figure, training_fi
 workflow.start_log(snakemake.log[0])
 options = snakemake.params.anfis
 table, grid = io.open_dataset(snakemake.input.table), io.open_dataset(snakemake.input.grid)
-model, record, seconds = learning.train(table, grid, options)
+target = snakemake.params.target  # the reference table's criterion and window the ANFIS learns
+model, record, seconds = learning.train(table, grid, options, target)
+workflow.log_info(f"target: optimal C of the {target['criterion']} criterion, {target['window']} window")
 a = record.attrs
 cv = "; ".join(f"{lab}: {m:.4g} +- {s:.2g}" for lab, m, s in zip(record.candidate_label.values,
                                                                    record.cv_rmse_mean.values,

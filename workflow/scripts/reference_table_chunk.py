@@ -11,7 +11,7 @@ from uavdamp import chunks, grid, io, workflow  # noqa: E402
 workflow.start_log(snakemake.log[0])
 item = snakemake.wildcards.scatteritem  # "i-of-N"
 chunk, n_chunks = (int(v) for v in item.split("-of-"))
-spec = grid.GridSpec.from_config(snakemake.params.grid)
+spec = grid.GridSpec.from_config(snakemake.params.grid, snakemake.params.camera)
 platform = snakemake.params.platform
 backend, model = grid.split_platform(platform)
 spec.check_damper_bounds(grid.PlatformParams.from_config(model))
@@ -22,6 +22,6 @@ with chunks.exclusive(snakemake.output[0]):  # one writer per chunk, even with a
     workflow.log_info(f"chunk {item}: {ds.attrs['n_failed']} failed; build {ds.attrs['build_time_s']:.2f} s, "
                       f"plant {ds.attrs['solver_time_s']:.2f} s, workers {ds.attrs['worker_time_s']:.2f} s, "
                       f"wall {ds.attrs['wall_time_s']:.2f} s")
-    config = {"reference_table": snakemake.params.grid, "platform": platform}
+    config = {"reference_table": snakemake.params.grid, "camera": snakemake.params.camera, "platform": platform}
     io.write_netcdf(ds, snakemake.output[0], config, section="reference_table",
                     command=workflow.snakemake_command(snakemake))

@@ -18,6 +18,8 @@ io.save_figure(plots.rigid_mount_figure(ds, fig["case_1"], "y"), snakemake.outpu
 io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_1"], "y", k_paper), snakemake.output.fig11)
 io.save_figure(plots.tracked_frequency_figure(ds, fig["case_2"], "z"), snakemake.output.fig12)
 io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_2"], "z", k_paper), snakemake.output.fig13)
+io.save_figure(plots.blur_distribution_figure(ds), snakemake.output.blur)
+io.save_figure(plots.sharp_fraction_figure(ds), snakemake.output.sharp)
 folder = Path(snakemake.output.strategies)
 folder.mkdir(parents=True, exist_ok=True)
 for case in ds.case.values:

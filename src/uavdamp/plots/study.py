@@ -115,3 +115,49 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 3.0):
         ax.legend(fontsize=7)
     fig.suptitle(f"{case}: all strategies", fontsize=12)
     return fig
+
+
+def blur_distribution_figure(ds: xr.Dataset):
+    """Box plots of the per-frame blur (pixels) per strategy: one panel per case and stiffness, log scale, with
+    the sharp-frame threshold (camera attrs of comparison.nc) as a dashed line."""
+    cases, stiffness = ds.case.values, ds.stiffness.values
+    names = [str(s) for s in ds.strategy.values]
+    fig, axes = plt.subplots(cases.size, stiffness.size, figsize=(4.2 * stiffness.size, 3.4 * cases.size),
+                             squeeze=False, sharey=True, constrained_layout=True)
+    threshold = ds.attrs.get("camera_sharp_threshold_px")
+    for i, case in enumerate(cases):
+        for j, k in enumerate(stiffness):
+            ax = axes[i, j]
+            blur = ds.frame_blur.sel(case=case, stiffness=k)
+            data = [blur.sel(strategy=s).values[np.isfinite(blur.sel(strategy=s).values)] for s in names]
+            box = ax.boxplot(data, whis=(5, 95), showfliers=True, patch_artist=True, flierprops={"markersize": 2})
+            for patch, name in zip(box["boxes"], names, strict=True):
+                patch.set_facecolor(colour(name, names))
+                patch.set_alpha(0.6)
+            if threshold is not None:
+                ax.axhline(float(threshold), color="k", ls="--", lw=0.8, label=f"sharp: <= {float(threshold):g} px")
+                ax.legend(fontsize=7, loc="upper right")
+            ax.set_xticks(np.arange(1, len(names) + 1), names, rotation=30, fontsize=8)
+            ax.set(yscale="log", title=f"{case}, K = {k:g} N/m", ylabel="blur per frame (px)" if j == 0 else None)
+            ax.grid(True, axis="y", which="both", alpha=0.3)
+    fig.suptitle("Image blur per frame (whiskers: 5th-95th percentile)", fontsize=11)
+    return fig
+
+
+def sharp_fraction_figure(ds: xr.Dataset):
+    """The fraction of sharp frames per strategy: grouped bars per case and stiffness."""
+    names = [str(s) for s in ds.strategy.values]
+    groups = [(str(c), float(k)) for c in ds.case.values for k in ds.stiffness.values]
+    fig, ax = plt.subplots(figsize=(1.6 + 1.3 * len(groups) * len(names) / 4, 3.8), constrained_layout=True)
+    width = 0.8 / len(names)
+    x = np.arange(len(groups))
+    for n, name in enumerate(names):
+        values = [float(ds.sharp_fraction.sel(case=c, stiffness=k, strategy=name)) for c, k in groups]
+        ax.bar(x - 0.4 + (n + 0.5) * width, values, width, color=colour(name, names), label=name)
+    ax.set_xticks(x, [f"{c}\nK = {k:g} N/m" for c, k in groups], fontsize=8)
+    threshold = ds.attrs.get("camera_sharp_threshold_px")
+    rule = f"blur <= {float(threshold):g} px" if threshold is not None else "sharp"
+    ax.set(ylim=(0, 1.05), ylabel=f"fraction of frames with {rule}", title="Sharp frames per strategy")
+    ax.legend(fontsize=8, ncols=min(len(names), 5))
+    ax.grid(True, axis="y", alpha=0.3)
+    return fig
