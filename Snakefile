@@ -35,6 +35,7 @@ rule all:
         "reports/figures/reference_table.png",
         "reports/anfis/model.nc",
         "reports/study/comparison.nc",
+        "reports/benchmark/criteria.nc",
 
 
 include: "workflow/rules/common.smk"
@@ -43,3 +44,4 @@ include: "workflow/rules/platform.smk"
 include: "workflow/rules/reference_table.smk"
 include: "workflow/rules/anfis.smk"
 include: "workflow/rules/study.smk"
+include: "workflow/rules/benchmark.smk"

@@ -117,7 +117,8 @@ class Lagged:
             raise ValueError(f"damper_lag_s: must be > 0, got {tau}")
         ratio = inner_period / time_step
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
-            raise ValueError(f"update_period ({inner_period} s) must be a positive multiple of time_step ({time_step} s)")
+            raise ValueError(f"update_period ({inner_period} s) must be a positive multiple of time_step "
+                             f"({time_step} s)")
         self.law, self.tau, self.bounds = law, float(tau), bounds
         self.update_period, self.per_update = float(time_step), int(round(ratio))
         self.decay = math.exp(-time_step / tau)
