@@ -78,7 +78,8 @@ def test_projected_damping_never_injects_energy(fy, fz, vy, vz):
     if force @ v_rel >= 0:
         assert c == 0.0
     else:
-        assert (force + c * v_rel) @ v_rel == pytest.approx(0.0, abs=1e-9 * np.linalg.norm(force) * np.linalg.norm(v_rel))
+        scale = np.linalg.norm(force) * np.linalg.norm(v_rel)
+        assert (force + c * v_rel) @ v_rel == pytest.approx(0.0, abs=1e-9 * scale)
 
 
 # ------------------------------------------------------------------------------------------------- clipped-optimal
