@@ -111,3 +111,16 @@ def test_quick_benchmark(inputs, params, options, tmp_path):
     np.testing.assert_allclose(ds.J_worst, ds.J.sel(scenario=evaluation).max("scenario"))
     io.write_netcdf(ds, tmp_path / "criteria.nc", {"benchmark": BENCH}, section="benchmark")
     assert set(io.open_dataset(tmp_path / "criteria.nc").set.values) == {"tuning", "evaluation"}
+
+
+def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
+    """Snakemake dry run of the quick config: benchmark_tune's inputs are exactly the tuning scenarios."""
+    from conftest import copy_workflow, snakemake
+
+    workdir = copy_workflow(tmp_path / "wf")
+    result = snakemake(workdir, "-n", "reports/benchmark/tuned.nc", "--configfile", "config/quick.yaml", timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}
+    found = {w.strip(",") for w in result.stdout.split() if w.startswith("reports/benchmark/scenarios/")}
+    assert found == wanted
