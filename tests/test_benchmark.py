@@ -26,7 +26,8 @@ def options() -> benchmark.BenchmarkOptions:
 
 @pytest.fixture(scope="module")
 def inputs(params) -> dict:
-    return {name: scenarios.scenario_input(name, BENCH, HELI, params.time_step) for name in scenarios.scenario_specs(BENCH)}
+    names = scenarios.scenario_specs(BENCH)
+    return {name: scenarios.scenario_input(name, BENCH, HELI, params.time_step) for name in names}
 
 
 def _table() -> xr.Dataset:
@@ -118,7 +119,8 @@ def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
     from conftest import copy_workflow, snakemake
 
     workdir = copy_workflow(tmp_path / "wf")
-    result = snakemake(workdir, "-n", "reports/benchmark/tuned.nc", "--configfile", "config/quick.yaml", timeout=300)
+    result = snakemake(workdir, "-n", "reports/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml",
+                       timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
     split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
     wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}

@@ -213,6 +213,12 @@ def _tuned_dataset(out: dict, options: BenchmarkOptions, names: list[str]) -> xr
                       attrs={"tuning_scenarios": ", ".join(names), "tuning_criterion": options.tuning.criterion})
 
 
+def merge_tuned(parts: list[xr.Dataset]) -> xr.Dataset:
+    """Tuned datasets of single stiffnesses (one tuning job each) as one, over stiffness."""
+    merged = xr.concat(parts, dim="stiffness", data_vars="all", join="outer", combine_attrs="override")
+    return merged.sortby("stiffness")
+
+
 def tuned_at(tuned: xr.Dataset, stiffness: float) -> dict:
     """{parameter: value} of the tuned dataset at one stiffness (costs left out)."""
     at = tuned.sel(stiffness=stiffness)

@@ -1,5 +1,5 @@
-# The controller benchmark (issue 13): one job per scenario input, tuning on the tuning set only, one job per
-# scenario running every controller, then a gather. Logic in src/uavdamp/{scenarios,benchmark}.py.
+# The controller benchmark (issue 13): one job per scenario input, tuning on the tuning set only (one job per
+# stiffness), one job per scenario running every controller, then a gather. Logic in src/uavdamp/{scenarios,benchmark}.py.
 from uavdamp.scenarios import scenario_specs
 from uavdamp.scenarios import split as benchmark_split
 
@@ -16,6 +16,8 @@ BENCHMARK_INPUTS = config_view(
 BENCHMARK_RUNS = config_view(
     BENCHMARK, keep=["controllers", "stiffness_n_m", "damper_lag_s", "tuning", "clairvoyant"]
 )
+BENCHMARK_STIFFNESS = [f"{float(k):g}" for k in BENCHMARK["stiffness_n_m"]]  # one tuning job each
+BENCHMARK_TUNED = expand("reports/benchmark/tuned/K{stiffness}.nc", stiffness=BENCHMARK_STIFFNESS)
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
 BENCHMARK_CAMERA = canonical(config["camera"])
 
@@ -43,11 +45,13 @@ rule benchmark_tune:
     input:
         scenarios=expand("reports/benchmark/scenarios/{scenario}.nc", scenario=BENCHMARK_TUNING),
     output:
-        "reports/benchmark/tuned.nc",
+        "reports/benchmark/tuned/K{stiffness}.nc",
     log:
-        "reports/logs/benchmark_tune.log",
+        "reports/logs/benchmark_tune_K{stiffness}.log",
     benchmark:
-        "reports/benchmarks/benchmark_tune.tsv"
+        "reports/benchmarks/benchmark_tune_K{stiffness}.tsv"
+    wildcard_constraints:
+        stiffness="|".join(BENCHMARK_STIFFNESS),
     conda:
         ENV
     params:
@@ -62,7 +66,7 @@ rule benchmark_tune:
 rule benchmark_run:
     input:
         scenario="reports/benchmark/scenarios/{scenario}.nc",
-        tuned="reports/benchmark/tuned.nc",
+        tuned=BENCHMARK_TUNED,
         model="reports/anfis/model.nc",
         table="reports/reference_table/table.nc",
     output:
@@ -87,7 +91,7 @@ rule benchmark_run:
 rule benchmark_gather:
     input:
         runs=expand("reports/benchmark/runs/{scenario}.nc", scenario=BENCHMARK_SCENARIOS),
-        tuned="reports/benchmark/tuned.nc",
+        tuned=BENCHMARK_TUNED,
     output:
         criteria="reports/benchmark/criteria.nc",
         table="reports/benchmark/table.md",

@@ -5,7 +5,8 @@ from uavdamp.plots import benchmark as plots
 
 workflow.start_log(snakemake.log[0])
 runs = [io.open_dataset(path) for path in snakemake.input.runs]
-ds = benchmark.gather(runs, dict(snakemake.params.split), io.open_dataset(snakemake.input.tuned))
+tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
+ds = benchmark.gather(runs, dict(snakemake.params.split), tuned)
 table = plots.markdown_table(ds) + "\n" + plots.markdown_table(ds, damper="lagged")
 workflow.log_info(table)
 io.write_text(table, snakemake.output.table)
