@@ -18,7 +18,8 @@ def criteria_figure(ds: xr.Dataset, damper: str = "ideal"):
         for row, name in enumerate(("J_mean", "J_worst")):
             ax = axes[row, col]
             values = ds[name].sel(stiffness=k, damper=damper).transpose("controller", "criterion").values
-            image = ax.imshow(np.log10(values), cmap="viridis_r", vmin=-2.5, vmax=0.5, aspect="auto")
+            shown = np.log10(np.maximum(values, 10**-2.5))  # J = 0 (e.g. no unsharp frame) at the colour scale's end
+            image = ax.imshow(shown, cmap="viridis_r", vmin=-2.5, vmax=0.5, aspect="auto")
             for (i, j), v in np.ndenumerate(values):
                 ax.text(j, i, f"{v:.3g}", ha="center", va="center", fontsize=7, color="w" if v < 0.1 else "k")
             ax.set_xticks(range(ds.criterion.size), ds.criterion.values, rotation=35, ha="right", fontsize=8)
