@@ -33,9 +33,11 @@ include: "workflow/rules/platform.smk"
 include: "workflow/rules/reference_table.smk"
 include: "workflow/rules/anfis.smk"
 include: "workflow/rules/study.smk"
+include: "workflow/rules/benchmark.smk"
 
 
-# every output of every rule, so that any deleted file is rebuilt (tests/test_rebuild.py)
+# every output of every rule of the study, so that any deleted file is rebuilt (tests/test_rebuild.py); the
+# controller benchmark is its own target below (about 20 min on 2 cores)
 rule all:
     default_target: True
     input:
@@ -50,3 +52,12 @@ rule all:
         rules.anfis.output,
         rules.excitation.output,
         rules.study.output,
+
+
+# the controller benchmark over many scenarios: `snakemake -j2 benchmark`
+rule benchmark:
+    input:
+        expand(rules.benchmark_scenario.output, scenario=BENCHMARK_SCENARIOS),
+        BENCHMARK_TUNED,
+        expand(rules.benchmark_run.output, scenario=BENCHMARK_SCENARIOS),
+        rules.benchmark_gather.output,

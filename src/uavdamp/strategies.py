@@ -10,10 +10,22 @@ comes from the config (``study.strategies``). Adding a strategy is one factory, 
     optimal_passive  the constant C minimising the criterion for this case: grid, then bounded refinement
     anfis            the paper's semi-active ANFIS: tracked f_y, f_z (study.tracking.method) and K -> C, every update
     skyhook          Karnopp's on-off skyhook between the damper bounds, every solver step
+
+The benchmark's (issue 13; `uavdamp.semi_active`, `uavdamp.clairvoyant`), with parameters from `Context.tuned`:
+    passive_tuned    constant C = tuned["passive_damping"]
+    table_lookup     the reference table (`Context.table`) interpolated at the tracked f_y, f_z and K, every update
+    skyhook_on_off   Karnopp's on-off skyhook between c_min and tuned["skyhook_c_max"], every solver step
+    skyhook_clipped  continuous clipped skyhook, gain tuned["skyhook_gain"], every solver step
+    groundhook       continuous clipped groundhook, gain tuned["groundhook_gain"], every solver step
+    hybrid           Ahmadian's hybrid, gain tuned["hybrid_gain"], alpha tuned["hybrid_alpha"], every solver step
+    clipped_optimal  Dyke et al.'s clipped-optimal LQR (r_scale tuned["clipped_optimal_r_scale"]), every solver step
+    clairvoyant      the beam-searched schedule of C per update period, knowing the case input (`Context.case_input`);
+                     candidates: options.clairvoyant's log grid plus tuned["passive_damping"] when tuned
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable, Sequence
@@ -50,6 +62,10 @@ class Context:
     model: object  # the trained table model: predict([[f_y Hz, f_z Hz, K N/m]]) -> C N s/m
     stiffness: float  # N m-1
     run: Callable
+    tuned: dict = field(default_factory=dict)  # benchmark: tuned parameters at this K, {name: value}
+    table: object | None = None  # benchmark: the reference table dataset (damping_opt over freq_y, freq_z, stiffness)
+    case_input: tuple | None = None  # benchmark: (time s, mount_y m, mount_z m) of the case, for the clairvoyant
+    linear: object | None = None  # benchmark: the isolated `LinearPlant` (its model for clipped-optimal and beams)
 
     @property
     def bounds(self) -> DamperBounds:
@@ -141,3 +157,94 @@ def best_constant(cost: Callable[[float], float], candidates: Sequence[float], b
                     options={"xatol": xatol_log, "maxiter": maxiter})
     c_best, value_best = min(cache.items(), key=lambda e: (e[1], e[0]))
     return c_best, value_best
+
+
+# ------------------------------------------------------------------------------------- the benchmark's (issue 13)
+
+
+def _tuned(ctx: Context, key: str) -> float:
+    if key not in ctx.tuned:
+        raise ValueError(f"tuned parameter {key!r} missing (have: {sorted(ctx.tuned)}): tune the benchmark first")
+    return float(ctx.tuned[key])
+
+
+def _needs(ctx: Context, name: str, what: str):
+    value = getattr(ctx, what)
+    if value is None:
+        raise ValueError(f"strategy {name!r} needs Context.{what}")
+    return value
+
+
+@register("passive_tuned")
+def passive_tuned(ctx: Context) -> Strategy:
+    return Strategy("passive_tuned", "isolated", laws.Constant(_tuned(ctx, "passive_damping")))
+
+
+@register("table_lookup")
+def table_lookup(ctx: Context) -> Strategy:
+    from uavdamp.semi_active import TableModel
+
+    table = _needs(ctx, "table_lookup", "table")
+    strategy = anfis(dataclasses.replace(ctx, model=TableModel(table)))
+    law = strategy.law
+    law.name = "table_lookup"
+    info = {"table_initial_damping": (law.c_initial, "N s m-1", "table lookup damping before the first estimate")}
+    return Strategy("table_lookup", "isolated", law, info)
+
+
+@register("skyhook_on_off")
+def skyhook_on_off(ctx: Context) -> Strategy:
+    law = laws.Skyhook(_tuned(ctx, "skyhook_c_max"), ctx.bounds.c_min, ctx.params.time_step)
+    return Strategy("skyhook_on_off", "isolated", law)
+
+
+def _hybrid(ctx: Context, name: str, gain_key: str, alpha: float) -> Strategy:
+    from uavdamp.semi_active import Hybrid
+
+    law = Hybrid(_tuned(ctx, gain_key), alpha, ctx.bounds, ctx.params.time_step, name=name)
+    return Strategy(name, "isolated", law)
+
+
+@register("skyhook_clipped")
+def skyhook_clipped(ctx: Context) -> Strategy:
+    return _hybrid(ctx, "skyhook_clipped", "skyhook_gain", 1.0)
+
+
+@register("groundhook")
+def groundhook(ctx: Context) -> Strategy:
+    return _hybrid(ctx, "groundhook", "groundhook_gain", 0.0)
+
+
+@register("hybrid")
+def hybrid(ctx: Context) -> Strategy:
+    return _hybrid(ctx, "hybrid", "hybrid_gain", _tuned(ctx, "hybrid_alpha"))
+
+
+@register("clipped_optimal")
+def clipped_optimal(ctx: Context) -> Strategy:
+    from uavdamp.semi_active import ClippedOptimal
+
+    plant = _needs(ctx, "clipped_optimal", "linear")
+    law = ClippedOptimal(plant.model, ctx.stiffness, ctx.bounds, ctx.params.time_step,
+                         q_scale=_tuned(ctx, "clipped_optimal_q_scale"), r_scale=_tuned(ctx, "clipped_optimal_r_scale"))
+    return Strategy("clipped_optimal", "isolated", law)
+
+
+@register("clairvoyant")
+def clairvoyant(ctx: Context) -> Strategy:
+    from uavdamp import clairvoyant as cv
+
+    plant, (time, y, z) = _needs(ctx, "clairvoyant", "linear"), _needs(ctx, "clairvoyant", "case_input")
+    o = getattr(ctx.options, "clairvoyant", None)
+    if o is None:
+        raise ValueError("strategy 'clairvoyant' needs options.clairvoyant (the benchmark's)")
+    bounds = ctx.bounds
+    candidates = np.geomspace(max(bounds.c_min, o.min_damping), bounds.c_max, o.n_candidates)
+    if "passive_damping" in ctx.tuned:  # the tuned passive C is a candidate: the bound is never above it
+        candidates = np.append(candidates, min(max(ctx.tuned["passive_damping"], bounds.c_min), bounds.c_max))
+    period = ctx.params.update_period
+    found = cv.schedule(plant, time, y, z, stiffness=ctx.stiffness, candidates=candidates, update_period=period,
+                        beam_width=o.beam_width, criterion=o.criterion)
+    info = {"clairvoyant_cost": (found.cost, "m" if found.criterion == "camera_std" else "rad",
+                                 f"clairvoyant schedule's {found.criterion}")}
+    return Strategy("clairvoyant", "isolated", laws.Schedule(found.values, update_period=period), info)

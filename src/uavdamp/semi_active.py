@@ -1,0 +1,248 @@
+"""Semi-active damping laws of the benchmark (issue 13): the `uavdamp.contract.DampingLaw` protocol, plant clips.
+
+    Hybrid(gain, alpha, ...)       continuous clipped skyhook (alpha 1), groundhook (alpha 0) and Ahmadian's
+                                   hybrid skyhook-groundhook (0 < alpha < 1), as a damping coefficient
+    TableModel(table)              the reference table's damping_opt interpolated at (f_y, f_z, K): a model for
+                                   `uavdamp.laws.AnfisLaw` (the table lookup: the baseline the ANFIS must beat)
+    ClippedOptimal(...)            Dyke et al. (1996): an LQR force demand on the linear plant's state space from an
+                                   observer, asked of the damper only where a damper can give it
+    Lagged(law, tau, ...)          a first-order lag of the damping (MR dampers: 10-30 ms), every solver step
+
+One C serves both axes (as in the paper): with v_rel = base - mount velocity (y, z) the damper force on the base
+is F = -C v_rel, so a desired force F_d is reproduced in the least-squares sense by C = -F_d . v_rel / |v_rel|^2,
+which is >= 0 exactly when F_d does not push energy into the damper's stroke (F_d . v_rel <= 0). Every law below
+demands that C where it is >= 0 and c_min elsewhere (the "clipped" forms); the plant clips to [c_min, c_max].
+Karnopp's on-off skyhook with a tunable C_max is `uavdamp.laws.Skyhook(c_max, c_min, step)`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+from scipy.interpolate import RegularGridInterpolator
+from scipy.linalg import expm, solve_continuous_are, solve_discrete_are
+
+from uavdamp.contract import DamperBounds, Observation, clip
+from uavdamp.statespace import discretise
+
+_TINY_RATE = 1e-12  # m2 s-2: |v_rel|^2 below this counts as no stroke motion (the projection is undefined)
+
+
+def projected_damping(force: np.ndarray, v_rel: np.ndarray, c_min: float, c_max: float) -> float:
+    """C >= 0 (N s m-1) whose force -C v_rel is closest to `force` (N, (y, z)), c_min where that C is < 0 or
+    undefined; capped at c_max so that the demand stays finite when v_rel is nearly zero."""
+    rate2 = float(np.dot(v_rel, v_rel))
+    if rate2 < _TINY_RATE:
+        return c_min
+    c = -float(np.dot(force, v_rel)) / rate2
+    return min(c, c_max) if c > 0.0 else c_min
+
+
+class Hybrid:
+    """Ahmadian's hybrid skyhook-groundhook control (Ahmadian & Pare 2000, J. Intell. Mater. Syst. Struct. 11(8),
+    604-612) in its continuous, clipped form, as a damping coefficient (N s m-1):
+
+        C = alpha C_sky + (1 - alpha) C_gnd,   C_sky = g v_abs . v_rel / |v_rel|^2 where > 0, else 0,
+                                               C_gnd = -g v_mnt . v_rel / |v_rel|^2 where > 0, else 0,
+
+    g the gain (N s m-1), v_abs the base's absolute velocity, v_mnt the mount's (the fuselage: the "ground" side).
+    alpha = 1 is the continuous clipped skyhook (the damper gives the skyhook force -g v_abs whenever it can,
+    Karnopp et al. 1974), alpha = 0 the groundhook (force +g v_mnt on the mount side, Valasek et al. 1997).
+    Where both parts are 0 the law asks for c_min. Decided every `update_period` s (the solver step for the
+    classical form).
+    """
+
+    def __init__(self, gain: float, alpha: float, bounds: DamperBounds, update_period: float, name: str = "hybrid"):
+        if not (math.isfinite(gain) and gain >= 0):
+            raise ValueError(f"gain: must be finite and >= 0, got {gain}")
+        if not 0.0 <= alpha <= 1.0:
+            raise ValueError(f"alpha: must be in [0, 1], got {alpha}")
+        self.gain, self.alpha, self.bounds = float(gain), float(alpha), bounds
+        self.update_period, self.name = float(update_period), name
+
+    def reset(self) -> None:
+        pass
+
+    def decide(self, v_abs: np.ndarray, v_mount: np.ndarray) -> float:
+        """C, N s m-1, for the base's and the mount's absolute velocities, m s-1, (y, z)."""
+        v_abs, v_mount = np.asarray(v_abs, float), np.asarray(v_mount, float)
+        v_rel = v_abs - v_mount
+        b = self.bounds
+        sky = projected_damping(-self.gain * v_abs, v_rel, 0.0, b.c_max)
+        ground = projected_damping(self.gain * v_mount, v_rel, 0.0, b.c_max)
+        c = self.alpha * sky + (1.0 - self.alpha) * ground
+        return c if c > 0.0 else b.c_min
+
+    def __call__(self, observation: Observation) -> float:
+        return self.decide(observation.base_velocity, observation.mount_velocity)
+
+
+class TableModel:
+    """The reference table as a model: predict([[f_y Hz, f_z Hz, K N/m]]) -> damping_opt, N s m-1.
+
+    Trilinear interpolation of `damping_opt` (freq_y, freq_z, stiffness) in (f_y, f_z, log10 K) (choice: K's
+    grid is logarithmic); inputs outside the grid are moved to its edge (choice: no extrapolation); a cell next to
+    a NaN optimum gives NaN (`AnfisLaw` then holds its last demand).
+    """
+
+    def __init__(self, table: xr.Dataset):
+        da = table["damping_opt"].transpose("freq_y", "freq_z", "stiffness")
+        self.axes = (np.asarray(table.freq_y, float), np.asarray(table.freq_z, float),
+                     np.log10(np.asarray(table.stiffness, float)))
+        self._interp = RegularGridInterpolator(self.axes, np.asarray(da.values, float), method="linear")
+
+    def predict(self, X) -> np.ndarray:
+        X = np.atleast_2d(np.asarray(X, dtype=float)).copy()
+        if X.shape[1] != 3:
+            raise ValueError(f"X: expected (n, 3) rows of (f_y Hz, f_z Hz, K N/m), got shape {X.shape}")
+        X[:, 2] = np.log10(X[:, 2])
+        for j, axis in enumerate(self.axes):
+            X[:, j] = np.clip(X[:, j], axis[0], axis[-1])
+        return self._interp(X)
+
+
+class Lagged:
+    """A first-order damper lag around any law: dC/dt = (C_cmd - C) / tau, run every solver step `time_step` s.
+
+    The inner law is asked at its own update times (every `inner_period` s); its demand is clipped to the bounds
+    (the command range of the damper) and becomes C_cmd. The returned C is the lag's state at each step, updated
+    exactly for a command held over the step, C_{k+1} = C_cmd + (C_k - C_cmd) exp(-time_step / tau): a unit step
+    of the command gives 1 - exp(-t / tau) at the grid points. The damper starts settled at the first command.
+    """
+
+    def __init__(self, law, tau: float, time_step: float, inner_period: float, bounds: DamperBounds):
+        if not (math.isfinite(tau) and tau > 0):
+            raise ValueError(f"damper_lag_s: must be > 0, got {tau}")
+        ratio = inner_period / time_step
+        if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
+            raise ValueError(f"update_period ({inner_period} s) must be a positive multiple of time_step "
+                             f"({time_step} s)")
+        self.law, self.tau, self.bounds = law, float(tau), bounds
+        self.update_period, self.per_update = float(time_step), int(round(ratio))
+        self.decay = math.exp(-time_step / tau)
+        self.name = f"{getattr(law, 'name', 'law')}_lagged"
+        self.reset()
+
+    def reset(self) -> None:
+        self.law.reset()
+        self._k, self._c, self._cmd = 0, math.nan, math.nan
+
+    def __call__(self, observation: Observation) -> float:
+        if self._k % self.per_update == 0:
+            self._cmd = clip(self.law(observation), self.bounds, observation.t_now)
+        if self._k == 0:
+            self._c = self._cmd
+        out = self._c
+        self._c = self._cmd + (self._c - self._cmd) * self.decay
+        self._k += 1
+        return out
+
+
+def damper_input(model, stiffness: float) -> tuple[np.ndarray, np.ndarray]:
+    """(B_f (ns, 2), S_rel (2, ns)): the damper force F (N, on the base, (y, z)) as an input of the state space
+    at C = 0, z' = A(K, 0) z + B w + B_f F, and the stroke rate v_rel = S_rel z + (the rate input's share).
+
+    A(K, C) = A(K, 0) + C dA exactly (C enters linearly), and dA = -B_f S_rel; B_f is found by least squares and
+    checked (ValueError if the plant's damping does not act through the stroke rate)."""
+    from uavdamp.linear_plant import OUTPUTS
+
+    a0, a1 = model.state_space(stiffness, 0.0), model.state_space(stiffness, 1.0)
+    rows = [OUTPUTS.index("stroke_rate_y"), OUTPUTS.index("stroke_rate_z")]
+    s_rel = a0.c[rows]
+    d_a = a1.a - a0.a
+    b_f = -np.linalg.lstsq(s_rel.T, d_a.T, rcond=None)[0].T
+    if not np.allclose(b_f @ s_rel, -d_a, atol=1e-9 * max(1.0, np.abs(d_a).max())):
+        raise ValueError("the isolator damping does not act through the stroke rate alone")
+    return b_f, s_rel
+
+
+class ClippedOptimal:
+    """Clipped-optimal control (Dyke, Spencer, Sain & Carlson 1996, Smart Mater. Struct. 5, 565-575).
+
+    An LQR on the linear plant at (K, C = 0) with the damper force F (N, (y, z)) as input, minimising
+    the integral of |camera displacement|^2 / q_scale^2 + |F|^2 / r_scale^2 (q_scale m, r_scale N): F_d = -G z_hat.
+    The state estimate z_hat comes from a steady-state Kalman filter on the same model discretised at the solver
+    step, driven by the mount input the Observation carries and the damper force the law itself asked for
+    (-C v_rel), corrected every step with the measured base displacement (stroke + mount) and base velocity.
+    The damper is asked for F_d only where it can give it (`projected_damping`: F_d . v_rel < 0), else c_min:
+    mode "continuous" demands the least-squares C; mode "on_off" is Dyke's rule for a damper whose force can only
+    be raised or lowered, c_max when (F_d - F) . F > 0 (F = -C_prev v_rel the present force), else c_min.
+    """
+
+    name = "clipped_optimal"
+
+    def __init__(self, model, stiffness: float, bounds: DamperBounds, time_step: float, *, q_scale: float,
+                 r_scale: float, mode: str = "continuous"):
+        from uavdamp.linear_plant import OUTPUTS
+
+        if mode not in ("continuous", "on_off"):
+            raise ValueError(f"clipped_optimal mode: must be continuous or on_off, got {mode!r}")
+        if not (q_scale > 0 and r_scale > 0):
+            raise ValueError(f"q_scale and r_scale must be > 0, got {q_scale}, {r_scale}")
+        self.bounds, self.mode, self.update_period = bounds, mode, float(time_step)
+        plant = model.state_space(stiffness, 0.0)
+        self.b_f, self.s_rel = damper_input(model, stiffness)
+        cam = plant.c[[OUTPUTS.index("camera_y"), OUTPUTS.index("camera_z")]]
+        q = cam.T @ cam / q_scale**2 + 1e-12 * np.eye(plant.n_states) / q_scale**2
+        r = np.eye(2) / r_scale**2
+        p = solve_continuous_are(plant.a, self.b_f, q, r)
+        self.gain = np.linalg.solve(r, self.b_f.T @ p)  # F_d = -gain z
+        self.model, self.plant = model, plant
+        self._observer(plant, time_step, OUTPUTS)
+        self.reset()
+
+    def _observer(self, plant, h: float, outputs) -> None:
+        """Step map, the force's zero-order-hold input map and the steady-state Kalman gain (choice of covariances:
+        process noise through the force input, 1 N2, plus 1e-18 on every state; measurement noise 1e-12, i.e.
+        1 um and 1 um/s standard deviations)."""
+        ns = plant.n_states
+        self.step = discretise(plant, h)
+        big = np.zeros((ns + 2, ns + 2))  # the force held over the step: exact zero-order hold
+        big[:ns, :ns], big[:ns, ns:] = plant.a, self.b_f
+        self.gamma_f = expm(big * h)[:ns, ns:]
+        rows = [outputs.index(k) for k in ("base_y", "base_z")]
+        self.h_pos = plant.c[rows]
+        self.du_pos = plant.du[rows]
+        nx = len(self.model.free)
+        self.h_vel = np.zeros((2, ns))
+        iso = [self.model.free.index(self.model.lin.link_index[k]) for k in ("iso_y", "iso_z")]
+        self.h_vel[[0, 1], [nx + iso[0], nx + iso[1]]] = 1.0  # x~' of the isolator coordinates: base velocity
+        h_meas = np.vstack([self.h_pos, self.h_vel])
+        w = self.gamma_f @ self.gamma_f.T + 1e-18 * np.eye(ns)
+        v = np.diag([1e-12, 1e-12, 1e-12, 1e-12])
+        p = solve_discrete_are(self.step.phi.T, h_meas.T, w, v)
+        self.kalman = p @ h_meas.T @ np.linalg.inv(h_meas @ p @ h_meas.T + v)
+        self.h_meas = h_meas
+
+    def reset(self) -> None:
+        self.z_hat, self._force, self._c_prev = None, np.zeros(2), self.bounds.c_min
+
+    def _estimate(self, obs: Observation) -> np.ndarray:
+        u = np.array([obs.mount_y[-1], obs.mount_z[-1]])
+        if self.z_hat is None:
+            z = self.model.initial_state(u, np.asarray(obs.mount_velocity, float))
+        else:
+            u_prev = np.array([obs.mount_y[-2], obs.mount_z[-2]])
+            slope = (u - u_prev) / (obs.time[-1] - obs.time[-2])
+            z = (self.step.phi @ self.z_hat + self.step.gamma_u @ u_prev + self.step.gamma_v @ slope
+                 + self.gamma_f @ self._force)
+        measured = np.concatenate([np.asarray(obs.stroke, float) + u, np.asarray(obs.base_velocity, float)])
+        predicted = np.concatenate([self.h_pos @ z + self.du_pos @ u, self.h_vel @ z])
+        return z + self.kalman @ (measured - predicted)
+
+    def __call__(self, observation: Observation) -> float:
+        self.z_hat = self._estimate(observation)
+        v_rel = np.asarray(observation.stroke_rate, float)
+        desired = -self.gain @ self.z_hat
+        b = self.bounds
+        if self.mode == "continuous":
+            c = projected_damping(desired, v_rel, b.c_min, b.c_max)
+        else:
+            present = -self._c_prev * v_rel
+            c = b.c_max if float(np.dot(desired - present, present)) > 0.0 or (
+                not np.any(present) and float(np.dot(desired, v_rel)) < 0.0) else b.c_min
+        c = min(max(c, b.c_min), b.c_max)  # the law's own record of the force it gets (the plant clips the same)
+        self._c_prev, self._force = c, -c * v_rel
+        return c

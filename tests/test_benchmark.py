@@ -1,0 +1,128 @@
+"""The controller benchmark (issue 13): scenarios, the split, tuning on the tuning set only, the quick benchmark."""
+
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import load_config
+
+from uavdamp import benchmark, io, scenarios, semi_active
+from uavdamp.linear_plant import LinearPlant
+from uavdamp.platform import PlatformParams
+
+CONFIG = load_config("quick.yaml")
+BENCH = CONFIG["benchmark"]
+HELI = {k: v for k, v in CONFIG["helicopter"].items() if k not in ("spectrum", "campbell", "sensitivity")}
+
+
+@pytest.fixture(scope="module")
+def params() -> PlatformParams:
+    return PlatformParams.from_config({k: v for k, v in CONFIG["platform"].items() if k != "response"})
+
+
+@pytest.fixture(scope="module")
+def options() -> benchmark.BenchmarkOptions:
+    return benchmark.BenchmarkOptions.from_config(BENCH, CONFIG["study"]["tracking"], CONFIG["camera"])
+
+
+@pytest.fixture(scope="module")
+def inputs(params) -> dict:
+    names = scenarios.scenario_specs(BENCH)
+    return {name: scenarios.scenario_input(name, BENCH, HELI, params.time_step) for name in names}
+
+
+def _table() -> xr.Dataset:
+    """A stand-in reference table: C = 0.5 f_y (N s/m per Hz) at every K (the lookup's plumbing, not its values)."""
+    fy = fz = np.linspace(3.0, 12.0, 4)
+    k = np.array([10.0, 100.0, 1000.0])
+    values = np.broadcast_to(0.5 * fy[:, None, None], (4, 4, 3)).copy()
+    return xr.Dataset({"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
+                      coords={"freq_y": fy, "freq_z": fz, "stiffness": k})
+
+
+def test_split_is_seeded_complete_and_has_both_sets():
+    names = [f"s{i}" for i in range(10)]
+    first = scenarios.split(names, 0.3, 7)
+    assert first == scenarios.split(list(reversed(names)), 0.3, 7)  # seeded, independent of the order given
+    assert sorted(first) == sorted(names) and sum(v == "tuning" for v in first.values()) == 3
+    assert set(scenarios.split(names[:2], 0.01, 7).values()) == {"tuning", "evaluation"}
+    with pytest.raises(ValueError, match="tuning_fraction: must be in"):
+        scenarios.split(names, 1.0, 7)
+
+
+def test_scenario_names_and_synthetic_inputs(params):
+    specs = scenarios.scenario_specs(load_config()["benchmark"])
+    assert len([n for n in specs if n.startswith("heli_")]) == 2 * 3 * 2
+    assert specs["heli_m0.5_r1.1_tail_on"] == {"kind": "helicopter", "mass_factor": 0.5, "speed_ratio": 1.1,
+                                                "tail_rotor": True}
+    amplitude, h = 1.3e-3, params.time_step
+    t, y, z = scenarios.synthetic_input({"kind": "random", "band_hz": [4.0, 10.0], "seed": 3}, duration=4.0,
+                                        amplitude=amplitude, time_step=h)
+    assert np.std(y) == pytest.approx(amplitude / np.sqrt(2)) and np.std(z) == pytest.approx(amplitude / np.sqrt(2))
+    again = scenarios.synthetic_input({"kind": "random", "band_hz": [4.0, 10.0], "seed": 3}, duration=4.0,
+                                      amplitude=amplitude, time_step=h)
+    np.testing.assert_array_equal(y, again[1])  # seeded
+    power, freq = np.abs(np.fft.rfft(y * np.hanning(y.size))) ** 2, np.fft.rfftfreq(y.size, h)
+    assert power[(freq < 2.0) | (freq > 20.0)].sum() < 0.01 * power.sum()  # band-limited
+    t, y, z = scenarios.synthetic_input({"kind": "sweep", "freq_hz": [3.0, 12.0]}, duration=4.0, amplitude=amplitude,
+                                        time_step=h)
+    assert y[0] == pytest.approx(0.0, abs=1e-12) and np.abs(y).max() == pytest.approx(amplitude, rel=1e-3)
+    with pytest.raises(ValueError, match="benchmark.synthetic.x.kind: must be one of"):
+        scenarios.scenario_specs({"helicopter": {"imbalance_mass_factor": [], "rotor_speed_ratio": [],
+                                                 "tail_rotor": []}, "synthetic": [{"name": "x", "kind": "noise"}]})
+
+
+def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, options):
+    """Every plant run during tuning has a tuning scenario's input: none of an evaluation scenario."""
+    split = scenarios.split(list(inputs), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    seen = []
+    original = LinearPlant.run
+
+    def spy(self, time, mount_y, mount_z, **kwargs):
+        seen.append(np.asarray(mount_y).copy())
+        return original(self, time, mount_y, mount_z, **kwargs)
+
+    monkeypatch.setattr(LinearPlant, "run", spy)
+    tuning = {n: inputs[n] for n in inputs if split[n] == "tuning"}
+    tuned = benchmark.tune(tuning, params, options)
+    evaluation = [inputs[n].mount_displacement.sel(axis="y").values for n in inputs if split[n] == "evaluation"]
+    allowed = [inputs[n].mount_displacement.sel(axis="y").values for n in tuning]
+    assert seen and evaluation
+    for y in seen:
+        assert not any(y.shape == e.shape and np.array_equal(y, e) for e in evaluation)
+        assert any(y.shape == a.shape and np.array_equal(y, a) for a in allowed)
+    assert tuned.attrs["tuning_scenarios"] == ", ".join(tuning)
+
+
+def test_quick_benchmark(inputs, params, options, tmp_path):
+    """The quick config's benchmark end to end (no Snakemake): tune, run every controller, gather, write."""
+    split = scenarios.split(list(inputs), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    tuned = benchmark.tune({n: inputs[n] for n in inputs if split[n] == "tuning"}, params, options)
+    table = _table()
+    runs = [benchmark.run_scenario(inputs[n], tuned, params, options, model=semi_active.TableModel(table),
+                                   table=table) for n in inputs]
+    ds = benchmark.gather(runs, split, tuned)
+    assert ds.J.dims == ("scenario", "controller", "stiffness", "criterion", "damper")
+    np.testing.assert_allclose(ds.J.sel(controller="rigid"), 1.0)  # the reference of every criterion
+    j = ds.J.sel(criterion="displacement_std", damper="ideal")
+    # the clairvoyant explores the tuned passive C: never worse on its own criterion (camera_std = this J x rigid)
+    assert np.all(j.sel(controller="clairvoyant") <= j.sel(controller="passive_tuned") * (1 + 1e-9))
+    assert np.all(ds.damping_changes_per_s.sel(controller="passive_tuned") == 0)
+    assert np.all(np.isnan(ds.peak_damper_force.sel(controller="rigid")))
+    evaluation = [n for n in inputs if split[n] == "evaluation"]
+    np.testing.assert_allclose(ds.J_worst, ds.J.sel(scenario=evaluation).max("scenario"))
+    io.write_netcdf(ds, tmp_path / "criteria.nc", {"benchmark": BENCH}, section="benchmark")
+    assert set(io.open_dataset(tmp_path / "criteria.nc").set.values) == {"tuning", "evaluation"}
+
+
+def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
+    """Snakemake dry run of the quick config: benchmark_tune's inputs are exactly the tuning scenarios."""
+    from conftest import copy_workflow, snakemake
+
+    workdir = copy_workflow(tmp_path / "wf")
+    result = snakemake(workdir, "-n", "reports/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml",
+                       timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}
+    found = {w.strip(",") for w in result.stdout.split() if w.startswith("reports/benchmark/scenarios/")}
+    assert found == wanted

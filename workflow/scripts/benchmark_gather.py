@@ -1,0 +1,17 @@
+"""Snakemake script: the benchmark's scenarios gathered -> criteria.nc, the README table and the figures."""
+
+from uavdamp import benchmark, io, workflow
+from uavdamp.plots import benchmark as plots
+
+workflow.start_log(snakemake.log[0])
+runs = [io.open_dataset(path) for path in snakemake.input.runs]
+tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
+ds = benchmark.gather(runs, dict(snakemake.params.split), tuned)
+table = plots.markdown_table(ds) + "\n" + plots.markdown_table(ds, damper="lagged")
+workflow.log_info(table)
+io.write_text(table, snakemake.output.table)
+io.save_figure(plots.criteria_figure(ds), snakemake.output.figure)
+io.save_figure(plots.boxplot_figure(ds), snakemake.output.boxplots)
+config = {"split": snakemake.params.split, "runs": snakemake.params.runs}
+io.write_netcdf(ds, snakemake.output.criteria, config, section="benchmark",
+                command=workflow.snakemake_command(snakemake))
