@@ -149,8 +149,8 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
 
 def test_unknown_strategy_is_refused_naming_it(quick_config):
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
-    with pytest.raises(ValueError, match=r"study.strategies: unknown strategy \['groundhook'\]"):
-        study.StudyOptions.from_config({**cfg, "strategies": ["passive", "groundhook"]})
+    with pytest.raises(ValueError, match=r"study.strategies: unknown strategy \['telepathy'\]"):
+        study.StudyOptions.from_config({**cfg, "strategies": ["passive", "telepathy"]})
     with pytest.raises(ValueError, match="study.stiffness_n_m: values must be unique"):
         study.StudyOptions.from_config({**cfg, "stiffness_n_m": [10.0, 10.0]})
 

@@ -6,18 +6,32 @@ from uavdamp.scenarios import split as benchmark_split
 BENCHMARK = config["benchmark"]
 BENCHMARK_SCENARIOS = sorted(scenario_specs(BENCHMARK))
 BENCHMARK_SPLIT = benchmark_split(
-    BENCHMARK_SCENARIOS, BENCHMARK["split"]["tuning_fraction"], BENCHMARK["split"]["seed"]
+    BENCHMARK_SCENARIOS,
+    BENCHMARK["split"]["tuning_fraction"],
+    BENCHMARK["split"]["seed"],
 )
 BENCHMARK_TUNING = [n for n in BENCHMARK_SCENARIOS if BENCHMARK_SPLIT[n] == "tuning"]
 BENCHMARK_INPUTS = config_view(
     BENCHMARK,
-    keep=["duration_s", "amplitude_m", "highpass_hz", "band_hz", "helicopter", "synthetic"],
+    keep=[
+        "duration_s",
+        "amplitude_m",
+        "highpass_hz",
+        "band_hz",
+        "helicopter",
+        "synthetic",
+    ],
 )
 BENCHMARK_RUNS = config_view(
-    BENCHMARK, keep=["controllers", "stiffness_n_m", "damper_lag_s", "tuning", "clairvoyant"]
+    BENCHMARK,
+    keep=["controllers", "stiffness_n_m", "damper_lag_s", "tuning", "clairvoyant"],
 )
-BENCHMARK_STIFFNESS = [f"{float(k):g}" for k in BENCHMARK["stiffness_n_m"]]  # one tuning job each
-BENCHMARK_TUNED = expand("reports/benchmark/tuned/K{stiffness}.nc", stiffness=BENCHMARK_STIFFNESS)
+BENCHMARK_STIFFNESS = [
+    f"{float(k):g}" for k in BENCHMARK["stiffness_n_m"]
+]  # one tuning job each
+BENCHMARK_TUNED = expand(
+    "reports/benchmark/tuned/K{stiffness}.nc", stiffness=BENCHMARK_STIFFNESS
+)
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
 BENCHMARK_CAMERA = canonical(config["camera"])
 
@@ -43,7 +57,9 @@ rule benchmark_scenario:
 
 rule benchmark_tune:
     input:
-        scenarios=expand("reports/benchmark/scenarios/{scenario}.nc", scenario=BENCHMARK_TUNING),
+        scenarios=expand(
+            "reports/benchmark/scenarios/{scenario}.nc", scenario=BENCHMARK_TUNING
+        ),
     output:
         "reports/benchmark/tuned/K{stiffness}.nc",
     log:
@@ -90,7 +106,9 @@ rule benchmark_run:
 
 rule benchmark_gather:
     input:
-        runs=expand("reports/benchmark/runs/{scenario}.nc", scenario=BENCHMARK_SCENARIOS),
+        runs=expand(
+            "reports/benchmark/runs/{scenario}.nc", scenario=BENCHMARK_SCENARIOS
+        ),
         tuned=BENCHMARK_TUNED,
     output:
         criteria="reports/benchmark/criteria.nc",
