@@ -70,11 +70,16 @@ if args.stage:
     verify_time = time.perf_counter() - t0
     worst = int(np.argmax(checked.verify_relative_difference.values))
     print(f"whole grid, 2 workers: {stage:.1f} s ({spec.size / stage:.0f} points/s), {ds.attrs['n_failed']} failed")
-    print(f"verification ({check.n_points} Exudyn points, 2 workers): {verify_time:.1f} s, largest difference "
-          f"{float(checked.verify_max_relative_difference):.3%} at point "
-          f"{spec.point(int(checked.verify_point.values[worst]))}")
+    print(
+        f"verification ({check.n_points} Exudyn points, 2 workers): {verify_time:.1f} s, largest difference "
+        f"{float(checked.verify_max_relative_difference):.3%} at point "
+        f"{spec.point(int(checked.verify_point.values[worst]))}"
+    )
     table = criterion.reference_table(full, cfg["reference_table"]["flat_tolerance"])
-    for k, gain, spread in zip(spec.stiffness, table.scheduling_gain.values, table.damping_opt_spread.values,
-                               strict=True):
-        print(f"K {k:7.1f} N/m: scheduling gain {gain:.3f}, optimal damping spread {spread:.1f}, "
-              f"best constant C {float(table.damping_best_constant.sel(stiffness=k)):.3g} N s/m")
+    for k, gain, spread in zip(
+        spec.stiffness, table.scheduling_gain.values, table.damping_opt_spread.values, strict=True
+    ):
+        print(
+            f"K {k:7.1f} N/m: scheduling gain {gain:.3f}, optimal damping spread {spread:.1f}, "
+            f"best constant C {float(table.damping_best_constant.sel(stiffness=k)):.3g} N s/m"
+        )

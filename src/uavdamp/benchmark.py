@@ -32,17 +32,21 @@ from uavdamp.semi_active import Lagged
 from uavdamp.tracking import TrackerOptions
 
 CRITERIA = ("los_std", "los_peak", "blur_p95", "unsharp_fraction", "displacement_std", "displacement_peak")
-RESOURCES = {"energy_dissipated": ("J", "energy dissipated by the damper over the run"),
-             "damping_changes_per_s": ("s-1", "changes of the applied damping per second"),
-             "peak_damper_force": ("N", "largest damper force C |v_rel| over the run")}
+RESOURCES = {
+    "energy_dissipated": ("J", "energy dissipated by the damper over the run"),
+    "damping_changes_per_s": ("s-1", "changes of the applied damping per second"),
+    "peak_damper_force": ("N", "largest damper force C |v_rel| over the run"),
+}
 DAMPERS = ("ideal", "lagged")
 # tuned parameter -> (controller, the TuningOptions field of its search range)
-TUNED = {"passive_damping": ("passive_tuned", "damping_range"),
-         "skyhook_c_max": ("skyhook_on_off", "damping_range"),
-         "skyhook_gain": ("skyhook_clipped", "gain_range"),
-         "groundhook_gain": ("groundhook", "gain_range"),
-         "hybrid_gain": ("hybrid", "gain_range"),
-         "clipped_optimal_r_scale": ("clipped_optimal", "r_scale_range")}
+TUNED = {
+    "passive_damping": ("passive_tuned", "damping_range"),
+    "skyhook_c_max": ("skyhook_on_off", "damping_range"),
+    "skyhook_gain": ("skyhook_clipped", "gain_range"),
+    "groundhook_gain": ("groundhook", "gain_range"),
+    "hybrid_gain": ("hybrid", "gain_range"),
+    "clipped_optimal_r_scale": ("clipped_optimal", "r_scale_range"),
+}
 
 
 @dataclass(frozen=True)
@@ -105,9 +109,11 @@ def criteria(response: xr.Dataset, rigid: dict, camera: CameraModel) -> tuple[di
     v = response.isolator_velocity.values
     dt = float(response.time[1] - response.time[0])
     changes = np.abs(np.diff(c[:-1])) > 1e-9 * np.maximum(np.abs(c[:-2]), 1e-12)
-    resources = {"energy_dissipated": float(np.sum(c[:-1] * (v[:, :-1] ** 2).sum(axis=0)) * dt),
-                 "damping_changes_per_s": float(changes.sum() / (response.time.values[-1] - response.time.values[0])),
-                 "peak_damper_force": float(np.max(c * np.linalg.norm(v, axis=0)))}
+    resources = {
+        "energy_dissipated": float(np.sum(c[:-1] * (v[:, :-1] ** 2).sum(axis=0)) * dt),
+        "damping_changes_per_s": float(changes.sum() / (response.time.values[-1] - response.time.values[0])),
+        "peak_damper_force": float(np.max(c * np.linalg.norm(v, axis=0))),
+    }
     return j, resources
 
 
@@ -115,10 +121,14 @@ def response_metrics(response: xr.Dataset, camera: CameraModel) -> dict:
     """The response metrics behind CRITERIA (rad, px, 1, m)."""
     t, disp = response.time.values, response.camera_displacement.values
     image = image_quality.image_metrics(t, disp, response.camera_yaw.values, response.camera_pitch.values, camera)
-    return {"los_std": image["los_std"][0], "los_peak": image["los_peak"][0], "blur_p95": image["blur_p95"][0],
-            "unsharp_fraction": 1.0 - image["sharp_fraction"][0],
-            "displacement_std": float(np.sqrt(np.var(disp, axis=1).sum())),
-            "displacement_peak": float(np.linalg.norm(disp, axis=0).max())}
+    return {
+        "los_std": image["los_std"][0],
+        "los_peak": image["los_peak"][0],
+        "blur_p95": image["blur_p95"][0],
+        "unsharp_fraction": 1.0 - image["sharp_fraction"][0],
+        "displacement_std": float(np.sqrt(np.var(disp, axis=1).sum())),
+        "displacement_peak": float(np.linalg.norm(disp, axis=0).max()),
+    }
 
 
 class _Runner:
@@ -134,8 +144,17 @@ class _Runner:
             plant = self.rigid if strategy.mount == "rigid" else self.isolated
             return plant.run(*case, stiffness=stiffness, law=strategy.law if law is None else law)
 
-        return strategies.Context(self.options, self.params, self.model, float(stiffness), run, tuned=tuned,
-                                  table=self.table, case_input=case, linear=self.isolated)
+        return strategies.Context(
+            self.options,
+            self.params,
+            self.model,
+            float(stiffness),
+            run,
+            tuned=tuned,
+            table=self.table,
+            case_input=case,
+            linear=self.isolated,
+        )
 
     def lagged(self, law):
         inner = self.params.update_period if law.update_period is None else law.update_period
@@ -158,16 +177,22 @@ def tune(inputs: dict[str, xr.Dataset], params, options: BenchmarkOptions) -> xr
     out = {}
     with threadpool_limits(1):
         for stiffness in options.stiffness:
-            rigid = [response_metrics(runner.context(c, stiffness, {}).run(strategies.Strategy("r", "rigid", None)),
-                                      options.camera) for c in cases]
+            rigid = [
+                response_metrics(
+                    runner.context(c, stiffness, {}).run(strategies.Strategy("r", "rigid", None)), options.camera
+                )
+                for c in cases
+            ]
             tuned = {"clipped_optimal_q_scale": o.q_scale}
             for key, (controller, field) in TUNED.items():
                 if controller not in options.controllers:
                     continue
                 search = getattr(o, field)
                 if key == "hybrid_gain":
-                    value, cost, alpha = min((*_tune_one(runner, cases, rigid, stiffness, tuned, key, controller,
-                                                         alpha, search), alpha) for alpha in o.hybrid_alpha)
+                    value, cost, alpha = min(
+                        (*_tune_one(runner, cases, rigid, stiffness, tuned, key, controller, alpha, search), alpha)
+                        for alpha in o.hybrid_alpha
+                    )
                     tuned["hybrid_alpha"] = out[("hybrid_alpha", stiffness)] = alpha
                 else:
                     value, cost = _tune_one(runner, cases, rigid, stiffness, tuned, key, controller, None, search)
@@ -194,9 +219,16 @@ def _tune_one(runner, cases, rigid, stiffness, tuned, key, controller, alpha, va
     return strategies.best_constant(cost, grid, DamperBounds(lo, hi), maxiter=runner.options.tuning.max_refine)
 
 
-_TUNED_UNITS = {"passive_damping": "N s m-1", "skyhook_c_max": "N s m-1", "skyhook_gain": "N s m-1",
-                "groundhook_gain": "N s m-1", "hybrid_gain": "N s m-1", "hybrid_alpha": "1",
-                "clipped_optimal_r_scale": "N", "clipped_optimal_q_scale": "m"}
+_TUNED_UNITS = {
+    "passive_damping": "N s m-1",
+    "skyhook_c_max": "N s m-1",
+    "skyhook_gain": "N s m-1",
+    "groundhook_gain": "N s m-1",
+    "hybrid_gain": "N s m-1",
+    "hybrid_alpha": "1",
+    "clipped_optimal_r_scale": "N",
+    "clipped_optimal_q_scale": "m",
+}
 
 
 def _tuned_dataset(out: dict, options: BenchmarkOptions, names: list[str]) -> xr.Dataset:
@@ -204,13 +236,18 @@ def _tuned_dataset(out: dict, options: BenchmarkOptions, names: list[str]) -> xr
     data = {}
     for key in sorted({k for k, _ in out}):
         units = _TUNED_UNITS.get(key, "1")
-        long_name = (f"mean J[{options.tuning.criterion}] on the tuning set" if key.endswith("_cost")
-                     else f"tuned {key}")
+        long_name = f"mean J[{options.tuning.criterion}] on the tuning set" if key.endswith("_cost") else f"tuned {key}"
         data[key] = ("stiffness", [out[(key, k)] for k in ks], {"units": units, "long_name": long_name})
-    data["clipped_optimal_q_scale"] = ("stiffness", [options.tuning.q_scale] * len(ks),
-                                       {"units": "m", "long_name": "clipped-optimal camera weight scale (fixed)"})
-    return xr.Dataset(data, coords={"stiffness": ("stiffness", ks, {"units": "N m-1", "long_name": "isolator K"})},
-                      attrs={"tuning_scenarios": ", ".join(names), "tuning_criterion": options.tuning.criterion})
+    data["clipped_optimal_q_scale"] = (
+        "stiffness",
+        [options.tuning.q_scale] * len(ks),
+        {"units": "m", "long_name": "clipped-optimal camera weight scale (fixed)"},
+    )
+    return xr.Dataset(
+        data,
+        coords={"stiffness": ("stiffness", ks, {"units": "N m-1", "long_name": "isolator K"})},
+        attrs={"tuning_scenarios": ", ".join(names), "tuning_criterion": options.tuning.criterion},
+    )
 
 
 def merge_tuned(parts: list[xr.Dataset]) -> xr.Dataset:
@@ -225,16 +262,19 @@ def tuned_at(tuned: xr.Dataset, stiffness: float) -> dict:
     return {k: float(at[k]) for k in tuned.data_vars if not k.endswith("_cost")}
 
 
-def run_scenario(ds: xr.Dataset, tuned: xr.Dataset, params, options: BenchmarkOptions, *, model=None,
-                 table=None) -> xr.Dataset:
+def run_scenario(
+    ds: xr.Dataset, tuned: xr.Dataset, params, options: BenchmarkOptions, *, model=None, table=None
+) -> xr.Dataset:
     """Criteria of every controller on one scenario: J (controller, stiffness, criterion, damper) and resources."""
     runner, case = _Runner(params, options, model, table), _case(ds)
     shape = (len(options.controllers), len(options.stiffness), len(DAMPERS))
     j = np.full((*shape[:2], len(CRITERIA), shape[2]), math.nan)
     res = {name: np.full(shape, math.nan) for name in RESOURCES}
     with threadpool_limits(1):
-        rigid = response_metrics(runner.context(case, options.stiffness[0], {}).run(
-            strategies.Strategy("rigid", "rigid", None)), options.camera)
+        rigid = response_metrics(
+            runner.context(case, options.stiffness[0], {}).run(strategies.Strategy("rigid", "rigid", None)),
+            options.camera,
+        )
         for b, stiffness in enumerate(options.stiffness):
             ctx = runner.context(case, stiffness, tuned_at(tuned, stiffness))
             for a, name in enumerate(options.controllers):
@@ -246,39 +286,71 @@ def run_scenario(ds: xr.Dataset, tuned: xr.Dataset, params, options: BenchmarkOp
                     for key, value in resources.items():
                         res[key][a, b, d] = value
     dims = ("controller", "stiffness", "damper")
-    out = xr.Dataset({"J": (("controller", "stiffness", "criterion", "damper"), j,
-                            {"units": "1", "long_name": "criterion relative to the rigid mount (lower is better)"}),
-                      **{k: (dims, v, {"units": RESOURCES[k][0], "long_name": RESOURCES[k][1]})
-                         for k, v in res.items()},
-                      "rigid_value": ("criterion", [rigid[c] for c in CRITERIA],
-                                      {"units": "1", "long_name": "the rigid mount's metric (in criterion_units)"})},
-                     coords=_coords(options))
+    out = xr.Dataset(
+        {
+            "J": (
+                ("controller", "stiffness", "criterion", "damper"),
+                j,
+                {"units": "1", "long_name": "criterion relative to the rigid mount (lower is better)"},
+            ),
+            **{k: (dims, v, {"units": RESOURCES[k][0], "long_name": RESOURCES[k][1]}) for k, v in res.items()},
+            "rigid_value": (
+                "criterion",
+                [rigid[c] for c in CRITERIA],
+                {"units": "1", "long_name": "the rigid mount's metric (in criterion_units)"},
+            ),
+        },
+        coords=_coords(options),
+    )
     out = out.expand_dims(scenario=[ds.attrs.get("scenario", "scenario")])
     return out.assign_coords(scenario=out.scenario.assign_attrs(units="1", long_name="scenario"))
 
 
 def _coords(options: BenchmarkOptions) -> dict:
-    units = {"los_std": "rad", "los_peak": "rad", "blur_p95": "px", "unsharp_fraction": "1",
-             "displacement_std": "m", "displacement_peak": "m"}
-    return {"controller": ("controller", list(options.controllers), {"units": "1", "long_name": "controller"}),
-            "stiffness": ("stiffness", list(options.stiffness), {"units": "N m-1", "long_name": "isolator K"}),
-            "criterion": ("criterion", list(CRITERIA), {"units": "1", "long_name": "criterion"}),
-            "criterion_units": ("criterion", [units[c] for c in CRITERIA],
-                                {"units": "1", "long_name": "units of the rigid mount's metric"}),
-            "damper": ("damper", list(DAMPERS), {"units": "1", "long_name": "damper: ideal or first-order lag"})}
+    units = {
+        "los_std": "rad",
+        "los_peak": "rad",
+        "blur_p95": "px",
+        "unsharp_fraction": "1",
+        "displacement_std": "m",
+        "displacement_peak": "m",
+    }
+    return {
+        "controller": ("controller", list(options.controllers), {"units": "1", "long_name": "controller"}),
+        "stiffness": ("stiffness", list(options.stiffness), {"units": "N m-1", "long_name": "isolator K"}),
+        "criterion": ("criterion", list(CRITERIA), {"units": "1", "long_name": "criterion"}),
+        "criterion_units": (
+            "criterion",
+            [units[c] for c in CRITERIA],
+            {"units": "1", "long_name": "units of the rigid mount's metric"},
+        ),
+        "damper": ("damper", list(DAMPERS), {"units": "1", "long_name": "damper: ideal or first-order lag"}),
+    }
 
 
 def gather(runs: list[xr.Dataset], split: dict[str, str], tuned: xr.Dataset) -> xr.Dataset:
     """All scenarios' criteria, the split, mean and worst J over the evaluation set, and the tuned parameters."""
-    ds = xr.concat(runs, dim="scenario", data_vars="all", coords="minimal", compat="override", join="exact",
-                   combine_attrs="override")
+    ds = xr.concat(
+        runs,
+        dim="scenario",
+        data_vars="all",
+        coords="minimal",
+        compat="override",
+        join="exact",
+        combine_attrs="override",
+    )
     names = [str(s) for s in ds.scenario.values]
     missing = sorted(set(names) - set(split))
     if missing:
         raise ValueError(f"benchmark: scenarios {missing} are in no set of the split")
-    ds = ds.assign_coords(scenario=("scenario", names, {"units": "1", "long_name": "scenario"}),
-                          set=("scenario", [split[n] for n in names],
-                               {"units": "1", "long_name": "set of the scenario: tuning or evaluation"}))
+    ds = ds.assign_coords(
+        scenario=("scenario", names, {"units": "1", "long_name": "scenario"}),
+        set=(
+            "scenario",
+            [split[n] for n in names],
+            {"units": "1", "long_name": "set of the scenario: tuning or evaluation"},
+        ),
+    )
     evaluation = ds.J.where(ds.set == "evaluation", drop=True)
     ds["J_mean"] = evaluation.mean("scenario").assign_attrs(units="1", long_name="mean J over the evaluation set")
     ds["J_worst"] = evaluation.max("scenario").assign_attrs(units="1", long_name="worst J over the evaluation set")
@@ -286,10 +358,12 @@ def gather(runs: list[xr.Dataset], split: dict[str, str], tuned: xr.Dataset) -> 
     return ds.merge(tuned, combine_attrs="override")
 
 
-def headroom_share(ds: xr.Dataset, criterion: str = "displacement_std", reference: str = "passive_tuned",
-                   bound: str = "clairvoyant") -> xr.DataArray:
+def headroom_share(
+    ds: xr.Dataset, criterion: str = "displacement_std", reference: str = "passive_tuned", bound: str = "clairvoyant"
+) -> xr.DataArray:
     """Share of the clairvoyant headroom reached, (J_ref - J) / (J_ref - J_bound), on the evaluation means."""
     m = ds.J_mean.sel(criterion=criterion)
     gap = m.sel(controller=reference) - m.sel(controller=bound)
     return ((m.sel(controller=reference) - m) / gap).assign_attrs(
-        units="1", long_name=f"share of the {bound} headroom over {reference} reached ({criterion})")
+        units="1", long_name=f"share of the {bound} headroom over {reference} reached ({criterion})"
+    )

@@ -50,8 +50,18 @@ class _Node:
         return float(np.sqrt(max(float(np.sum(self.s2 / self.n - mean**2)), 0.0)))
 
 
-def schedule(plant, time, mount_y, mount_z, *, stiffness: float, candidates, update_period: float,
-             beam_width: int, criterion: str = "camera_std") -> ClairvoyantSchedule:
+def schedule(
+    plant,
+    time,
+    mount_y,
+    mount_z,
+    *,
+    stiffness: float,
+    candidates,
+    update_period: float,
+    beam_width: int,
+    criterion: str = "camera_std",
+) -> ClairvoyantSchedule:
     """Beam search for the piecewise-constant C (per `update_period` s) minimising `criterion` on `plant`.
 
     Input as `LinearPlant.run` (time s, mount_y, mount_z m); stiffness N m-1; candidates N s m-1 within the
@@ -85,9 +95,14 @@ def schedule(plant, time, mount_y, mount_z, *, stiffness: float, candidates, upd
         end = min(start + per_update, steps)
         states = propagate(maps[c], node.state, u[start:end], slope[start:end], lifts.get(c))
         last = end + 1 if end == steps else end  # the final grid point belongs to the last period
-        out = (states[: last - start] @ out_map[0].T + u[start:last] @ out_map[1].T + rate[start:last] @ out_map[2].T)
-        return _Node(node.values + (c,), states[end - start], node.s1 + out.sum(axis=0),
-                     node.s2 + (out**2).sum(axis=0), node.n + out.shape[0])
+        out = states[: last - start] @ out_map[0].T + u[start:last] @ out_map[1].T + rate[start:last] @ out_map[2].T
+        return _Node(
+            node.values + (c,),
+            states[end - start],
+            node.s1 + out.sum(axis=0),
+            node.s2 + (out**2).sum(axis=0),
+            node.n + out.shape[0],
+        )
 
     root = _Node((), plant.model.initial_state(u[0], slope[0]), np.zeros(len(rows)), np.zeros(len(rows)), 0)
     beam = [root]

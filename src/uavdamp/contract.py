@@ -121,8 +121,12 @@ def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dic
     missing = sorted(set(RESPONSE_VARIABLES) - set(values))
     if missing:
         raise ValueError(f"response: missing variable(s) {missing}")
-    data = {name: (dims, values[name], {"units": units, "long_name": long_name})
-            for name, (dims, units, long_name) in RESPONSE_VARIABLES.items()}
-    coords = {"time": ("time", time, {"units": "s", "long_name": "time"}),
-              "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"})}
+    data = {
+        name: (dims, values[name], {"units": units, "long_name": long_name})
+        for name, (dims, units, long_name) in RESPONSE_VARIABLES.items()
+    }
+    coords = {
+        "time": ("time", time, {"units": "s", "long_name": "time"}),
+        "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
+    }
     return xr.Dataset(data, coords=coords, attrs=attrs)

@@ -75,8 +75,14 @@ def line_of_sight_criterion(response: xr.Dataset, window: tuple[float, float]) -
 
 def blur_criterion(response: xr.Dataset, camera: CameraModel, window: tuple[float, float]) -> float:
     """95th percentile of the frames' blur, px, exact projection (`image_quality.frame_metrics`) over `window`."""
-    frames = frame_metrics(response.time.values, response.camera_displacement.values, response.camera_yaw.values,
-                           response.camera_pitch.values, camera, *window)
+    frames = frame_metrics(
+        response.time.values,
+        response.camera_displacement.values,
+        response.camera_yaw.values,
+        response.camera_pitch.values,
+        camera,
+        *window,
+    )
     return float(np.percentile(frames.blur_px, 95))
 
 
@@ -228,18 +234,27 @@ def reference_table(grid: xr.Dataset, flat_tolerance: float = 0.05) -> xr.Datase
     tables = {}
     for name in names:
         values = grid[variable(name)].reset_coords(drop=True)
-        tables[name] = stacked([optimum(values.isel(window=j), flat_tolerance) for j in range(values.sizes["window"])],
-                               "window").assign_coords(windows)
+        tables[name] = stacked(
+            [optimum(values.isel(window=j), flat_tolerance) for j in range(values.sizes["window"])], "window"
+        ).assign_coords(windows)
     shared = [v for v in tables[names[0]].data_vars if v not in _BY_CRITERION]
     out = stacked([tables[n][shared] for n in names], "criterion")
-    out = out.assign_coords(criterion=("criterion", np.array(names, dtype=object),
-                                       {"units": "1", "long_name": "camera criterion minimised"}))
+    out = out.assign_coords(
+        criterion=(
+            "criterion",
+            np.array(names, dtype=object),
+            {"units": "1", "long_name": "camera criterion minimised"},
+        )
+    )
     for name in names:
         for var in _BY_CRITERION:
             da = tables[name][var]
             out[f"{var}_{name}"] = da.assign_attrs(long_name=f"{da.attrs['long_name']} ({name})")
-    out.attrs = {"flat_tolerance": flat_tolerance, "tie_rule": "smallest damping among equal minima",
-                 "n_failed_points": int(grid.failed.sum()) if "failed" in grid else 0}
+    out.attrs = {
+        "flat_tolerance": flat_tolerance,
+        "tie_rule": "smallest damping among equal minima",
+        "n_failed_points": int(grid.failed.sum()) if "failed" in grid else 0,
+    }
     return out
 
 
@@ -249,8 +264,9 @@ def select_table(table: xr.Dataset, criterion: str, window: str) -> xr.Dataset:
     ValueError naming reference_table.criterion or .window if the table does not hold them."""
     check_choice(criterion, window, [str(w) for w in table.window.values])
     if criterion not in table.criterion.values:
-        raise ValueError(f"reference_table.criterion: {criterion!r} is not in the table "
-                         f"({[str(c) for c in table.criterion.values]})")
+        raise ValueError(
+            f"reference_table.criterion: {criterion!r} is not in the table ({[str(c) for c in table.criterion.values]})"
+        )
     keep = [v for v in table.data_vars if "criterion" in table[v].dims]
     chosen = table[keep].sel(criterion=criterion, window=window, drop=True)
     for var in _BY_CRITERION:

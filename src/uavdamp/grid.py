@@ -99,16 +99,22 @@ class GridSpec:
         return spec
 
     def validate(self) -> None:
-        for key, values in (("freq_y_hz", self.freq_y), ("freq_z_hz", self.freq_z), ("stiffness", self.stiffness),
-                            ("damping", self.damping)):
+        for key, values in (
+            ("freq_y_hz", self.freq_y),
+            ("freq_z_hz", self.freq_z),
+            ("stiffness", self.stiffness),
+            ("damping", self.damping),
+        ):
             if values.min() <= 0:
                 raise ValueError(f"reference_table.{key}: values must be positive")
         if not self.amplitude > 0:
             raise ValueError(f"reference_table.amplitude: must be positive, got {self.amplitude}")
         for name, (start, end) in self.windows.items():
             if not 0 <= start < end <= self.duration:
-                raise ValueError(f"reference_table.windows.{name}: need 0 <= start < end <= duration "
-                                 f"({self.duration} s), got {[start, end]}")
+                raise ValueError(
+                    f"reference_table.windows.{name}: need 0 <= start < end <= duration "
+                    f"({self.duration} s), got {[start, end]}"
+                )
 
     @property
     def criteria(self) -> tuple[str, ...]:
@@ -124,16 +130,20 @@ class GridSpec:
         """The `window` coordinate (names) with its start and end, s."""
         names = np.array(list(self.windows), dtype=object)
         bounds = np.array(list(self.windows.values()))
-        return {"window": ("window", names, crit.WINDOW_ATTRS),
-                "window_start": ("window", bounds[:, 0], {"units": "s", "long_name": "criterion window start"}),
-                "window_end": ("window", bounds[:, 1], {"units": "s", "long_name": "criterion window end"})}
+        return {
+            "window": ("window", names, crit.WINDOW_ATTRS),
+            "window_start": ("window", bounds[:, 0], {"units": "s", "long_name": "criterion window start"}),
+            "window_end": ("window", bounds[:, 1], {"units": "s", "long_name": "criterion window end"}),
+        }
 
     def check_damper_bounds(self, params: PlatformParams) -> None:
         """The damping axis must lie within the platform's damper bounds (else C would be clipped)."""
         if self.damping.min() < params.damping_min or self.damping.max() > params.damping_max:
-            raise ValueError(f"reference_table.damping: [{self.damping.min()}, {self.damping.max()}] N s/m lies "
-                             f"outside the damper bounds platform.isolator.damping_min/max "
-                             f"[{params.damping_min}, {params.damping_max}]")
+            raise ValueError(
+                f"reference_table.damping: [{self.damping.min()}, {self.damping.max()}] N s/m lies "
+                f"outside the damper bounds platform.isolator.damping_min/max "
+                f"[{params.damping_min}, {params.damping_max}]"
+            )
 
     @property
     def shape(self) -> tuple[int, int, int, int]:
@@ -149,8 +159,10 @@ class GridSpec:
         return (float(self.freq_y[iy]), float(self.freq_z[iz]), float(self.stiffness[ik]), float(self.damping[ic]))
 
     def coords(self) -> dict:
-        return {name: (name, values, COORD_ATTRS[name])
-                for name, values in zip(DIMS, (self.freq_y, self.freq_z, self.stiffness, self.damping), strict=True)}
+        return {
+            name: (name, values, COORD_ATTRS[name])
+            for name, values in zip(DIMS, (self.freq_y, self.freq_z, self.stiffness, self.damping), strict=True)
+        }
 
 
 def chunk_blocks(spec: GridSpec, n_chunks: int, chunk: int) -> np.ndarray:
@@ -187,8 +199,11 @@ class VerifySpec:
         if unknown:
             raise ValueError(f"reference_table.verify: unknown key(s) {unknown}")
         given = cfg["tolerance"]
-        tolerance = ({str(k): float(v) for k, v in given.items()} if isinstance(given, dict)
-                     else dict.fromkeys(crit.CRITERIA, float(given)))
+        tolerance = (
+            {str(k): float(v) for k, v in given.items()}
+            if isinstance(given, dict)
+            else dict.fromkeys(crit.CRITERIA, float(given))
+        )
         spec = cls(n_points=int(cfg["n_points"]), tolerance=tolerance, seed=int(cfg["seed"]))
         if spec.n_points < 1:
             raise ValueError(f"reference_table.verify.n_points: must be >= 1, got {spec.n_points}")
@@ -206,8 +221,6 @@ class VerifySpec:
 def split_platform(platform: dict) -> tuple[str, dict]:
     """(the plant `platform.backend` names, the platform section)."""
     return PlatformParams.from_config(platform).backend, platform
-
-
 
 
 # ------------------------------------------------------------------------------------------ workers
@@ -238,8 +251,12 @@ def evaluate(sim: ExudynPlant, spec: GridSpec, point: tuple[float, float, float,
     t, y, z = sine_input(freq_y, freq_z, spec.amplitude, spec.duration, sim.params.time_step)
     ds = sim.run(t, y, z, stiffness=stiffness, law=damping)
     if spec.camera is None:
-        return np.array([[crit.camera_criterion(ds.camera_displacement, w) for w in spec.windows.values()],
-                         [crit.line_of_sight_criterion(ds, w) for w in spec.windows.values()]])
+        return np.array(
+            [
+                [crit.camera_criterion(ds.camera_displacement, w) for w in spec.windows.values()],
+                [crit.line_of_sight_criterion(ds, w) for w in spec.windows.values()],
+            ]
+        )
     return crit.response_criteria(ds, spec.windows, spec.camera)
 
 
@@ -247,8 +264,17 @@ def evaluate_block(plant: LinearPlant, spec: GridSpec, block: int) -> np.ndarray
     """Criteria of every (f_y, f_z) of one (K, C) block with the linear plant: (f_y x f_z in C order, criteria,
     windows)."""
     ik, ic = divmod(int(block), spec.damping.size)
-    values = sine_criteria(plant, spec.stiffness[ik], spec.damping[ic], spec.freq_y, spec.freq_z, spec.amplitude,
-                           spec.duration, spec.windows, spec.camera)
+    values = sine_criteria(
+        plant,
+        spec.stiffness[ik],
+        spec.damping[ic],
+        spec.freq_y,
+        spec.freq_z,
+        spec.amplitude,
+        spec.duration,
+        spec.windows,
+        spec.camera,
+    )
     stacked = np.stack([values[name] for name in spec.criteria])  # (criteria, windows, f_y, f_z)
     return stacked.reshape(*spec.n_values, -1).transpose(2, 0, 1)
 
@@ -291,14 +317,23 @@ def evaluate_batch(platform: dict, spec: GridSpec, blocks: np.ndarray, backend: 
                 solve_time += plant.solve_time
     failed[np.isnan(values).any(axis=(1, 2))] = 1
     values[failed == 1] = np.nan
-    return {"indices": indices, "criterion": values, "failed": failed, "errors": errors,
-            "build_time": build_time, "solve_time": solve_time, "wall_time": time.perf_counter() - t0}
+    return {
+        "indices": indices,
+        "criterion": values,
+        "failed": failed,
+        "errors": errors,
+        "build_time": build_time,
+        "solve_time": solve_time,
+        "wall_time": time.perf_counter() - t0,
+    }
 
 
 def criterion_variables(spec: GridSpec, values: np.ndarray, dims: tuple[str, ...]) -> dict:
     """{criterion_<name>: (("window", *dims), values of that criterion, attrs)} from (..., criteria, windows)."""
-    return {crit.variable(name): (("window", *dims), np.moveaxis(values[..., j, :], -1, 0), crit.CRITERIA[name])
-            for j, name in enumerate(spec.criteria)}
+    return {
+        crit.variable(name): (("window", *dims), np.moveaxis(values[..., j, :], -1, 0), crit.CRITERIA[name])
+        for j, name in enumerate(spec.criteria)
+    }
 
 
 def _fan_out(function, batches: list, n_jobs: int, progress: bool) -> list:
@@ -312,8 +347,16 @@ def _fan_out(function, batches: list, n_jobs: int, progress: bool) -> list:
         return list(_progress(results, len(batches), progress))
 
 
-def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int = 0, n_jobs: int = 1,
-              batches_per_job: int = 4, progress: bool = False) -> xr.Dataset:
+def run_chunk(
+    platform: dict,
+    spec: GridSpec,
+    *,
+    n_chunks: int = 1,
+    chunk: int = 0,
+    n_jobs: int = 1,
+    batches_per_job: int = 4,
+    progress: bool = False,
+) -> xr.Dataset:
     """Evaluate one chunk's points with `n_jobs` joblib workers on the plant `platform.backend` names.
 
     Returns a dataset over `point` (flat grid index) with `criterion_<name>` (window, point) per criterion
@@ -337,11 +380,18 @@ def run_chunk(platform: dict, spec: GridSpec, *, n_chunks: int = 1, chunk: int =
     return xr.Dataset(
         {**criterion_variables(spec, criterion, ("point",)), "failed": ("point", failed, FAILED_ATTRS)},
         coords={"point": ("point", indices, point_attrs), **spec.window_coords()},
-        attrs={"plant": backend, "chunk": chunk, "n_chunks": n_chunks, "n_jobs": n_jobs,
-               "n_failed": int(failed.sum()), "errors": json.dumps(errors),
-               "build_time_s": sum(p["build_time"] for p in parts),
-               "solver_time_s": sum(p["solve_time"] for p in parts),
-               "worker_time_s": sum(p["wall_time"] for p in parts), "wall_time_s": time.perf_counter() - t0},
+        attrs={
+            "plant": backend,
+            "chunk": chunk,
+            "n_chunks": n_chunks,
+            "n_jobs": n_jobs,
+            "n_failed": int(failed.sum()),
+            "errors": json.dumps(errors),
+            "build_time_s": sum(p["build_time"] for p in parts),
+            "solver_time_s": sum(p["solve_time"] for p in parts),
+            "worker_time_s": sum(p["wall_time"] for p in parts),
+            "wall_time_s": time.perf_counter() - t0,
+        },
     )
 
 
@@ -364,16 +414,21 @@ def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:
         idx = ds.point.values.astype(int)
         missing = [crit.variable(n) for n in spec.criteria if crit.variable(n) not in ds]
         if missing or list(ds.window.values) != list(spec.windows):
-            raise ValueError(f"a chunk lacks {missing} or has windows {list(ds.window.values)} (the grid: "
-                             f"{list(spec.windows)}): rerun the chunks")
-        criterion[idx] = np.stack([ds[crit.variable(n)].transpose("point", "window").values
-                                   for n in spec.criteria], axis=1)
+            raise ValueError(
+                f"a chunk lacks {missing} or has windows {list(ds.window.values)} (the grid: "
+                f"{list(spec.windows)}): rerun the chunks"
+            )
+        criterion[idx] = np.stack(
+            [ds[crit.variable(n)].transpose("point", "window").values for n in spec.criteria], axis=1
+        )
         failed[idx] = ds.failed.values
         np.add.at(seen, idx, 1)
     if np.any(seen != 1):
         missing, doubled = np.flatnonzero(seen == 0), np.flatnonzero(seen > 1)
-        raise ValueError(f"chunks do not cover the grid exactly: {missing.size} points missing "
-                         f"(first {missing[:5].tolist()}), {doubled.size} present twice")
+        raise ValueError(
+            f"chunks do not cover the grid exactly: {missing.size} points missing "
+            f"(first {missing[:5].tolist()}), {doubled.size} present twice"
+        )
     if np.any(np.isnan(criterion).any(axis=(1, 2)) & (failed == 0)):
         raise ValueError("a point has no criterion but is not flagged as failed")
     plants = sorted({ds.attrs.get("plant", "exudyn") for ds in chunks})
@@ -381,15 +436,24 @@ def merge_chunks(spec: GridSpec, chunks: list[xr.Dataset]) -> xr.Dataset:
         raise ValueError(f"chunks come from different plants {plants}: rerun the grid with one platform.backend")
     errors = [e for ds in chunks for e in json.loads(ds.attrs.get("errors", "[]"))]
     return xr.Dataset(
-        {**criterion_variables(spec, criterion.reshape(*spec.shape, *spec.n_values), DIMS),
-         "failed": (DIMS, failed.reshape(spec.shape), FAILED_ATTRS)},
+        {
+            **criterion_variables(spec, criterion.reshape(*spec.shape, *spec.n_values), DIMS),
+            "failed": (DIMS, failed.reshape(spec.shape), FAILED_ATTRS),
+        },
         coords={**spec.coords(), **spec.window_coords()},
-        attrs={"plant": plants[0] if plants else "linear", "n_points": spec.size, "n_failed": int(failed.sum()),
-               "errors": json.dumps(errors), "amplitude_m": spec.amplitude, "duration_s": spec.duration,
-               "criteria": list(spec.criteria), **(spec.camera.attrs() if spec.camera else {}),
-               "solver_time_s": float(sum(ds.attrs.get("solver_time_s", 0.0) for ds in chunks)),
-               "build_time_s": float(sum(ds.attrs.get("build_time_s", 0.0) for ds in chunks)),
-               "worker_time_s": float(sum(ds.attrs.get("worker_time_s", 0.0) for ds in chunks))},
+        attrs={
+            "plant": plants[0] if plants else "linear",
+            "n_points": spec.size,
+            "n_failed": int(failed.sum()),
+            "errors": json.dumps(errors),
+            "amplitude_m": spec.amplitude,
+            "duration_s": spec.duration,
+            "criteria": list(spec.criteria),
+            **(spec.camera.attrs() if spec.camera else {}),
+            "solver_time_s": float(sum(ds.attrs.get("solver_time_s", 0.0) for ds in chunks)),
+            "build_time_s": float(sum(ds.attrs.get("build_time_s", 0.0) for ds in chunks)),
+            "worker_time_s": float(sum(ds.attrs.get("worker_time_s", 0.0) for ds in chunks)),
+        },
     )
 
 
@@ -405,8 +469,9 @@ def verification_points(spec: GridSpec, n_points: int, seed: int) -> np.ndarray:
     ends = [np.unique([0, n - 1]) for n in spec.shape]
     corners = np.ravel_multi_index(tuple(g.ravel() for g in np.meshgrid(*ends, indexing="ij")), spec.shape)
     if n_points < corners.size:
-        raise ValueError(f"reference_table.verify.n_points: must be >= the grid's {corners.size} corners, "
-                         f"got {n_points}")
+        raise ValueError(
+            f"reference_table.verify.n_points: must be >= the grid's {corners.size} corners, got {n_points}"
+        )
     others = np.setdiff1d(np.arange(spec.size), corners)
     rng = np.random.default_rng(seed)
     extra = rng.choice(others, size=min(n_points - corners.size, others.size), replace=False)
@@ -423,8 +488,9 @@ def evaluate_points(platform: dict, spec: GridSpec, indices: np.ndarray, backend
         for k, index in enumerate(indices):
             fy, fz, stiffness, damping = spec.point(int(index))
             if backend == "linear":
-                one = sine_criteria(plant, stiffness, damping, [fy], [fz], spec.amplitude, spec.duration,
-                                    spec.windows, spec.camera)
+                one = sine_criteria(
+                    plant, stiffness, damping, [fy], [fz], spec.amplitude, spec.duration, spec.windows, spec.camera
+                )
                 values[k] = [one[name][:, 0, 0] for name in spec.criteria]
                 continue
             try:
@@ -436,8 +502,9 @@ def evaluate_points(platform: dict, spec: GridSpec, indices: np.ndarray, backend
 
 def grid_values(spec: GridSpec, full: xr.Dataset) -> np.ndarray:
     """The grid's criteria as (points in flat order, criteria, windows)."""
-    return np.stack([full[crit.variable(n)].transpose(*DIMS, "window").values.reshape(spec.size, -1)
-                     for n in spec.criteria], axis=1)
+    return np.stack(
+        [full[crit.variable(n)].transpose(*DIMS, "window").values.reshape(spec.size, -1) for n in spec.criteria], axis=1
+    )
 
 
 def verify(platform: dict, spec: GridSpec, full: xr.Dataset, check: VerifySpec, n_jobs: int = 1) -> xr.Dataset:
@@ -459,17 +526,34 @@ def verify(platform: dict, spec: GridSpec, full: xr.Dataset, check: VerifySpec, 
     with np.errstate(divide="ignore", invalid="ignore"):
         relative = np.abs(linear - exudyn) / np.abs(exudyn)
     relative = np.where(np.isfinite(relative), relative, np.inf)
-    data = {"verify_point": ("verify", points, {"units": "1", "long_name": POINT_LABEL}),
-            "verify_relative_difference": (("verify", "criterion", "window"), relative,
-                                           {"units": "1", "long_name": "|linear - Exudyn| / Exudyn"}),
-            "verify_max_relative_difference": ((), float(relative.max()), {
-                "units": "1", "long_name": "largest relative criterion difference, linear vs Exudyn plant"})}
+    data = {
+        "verify_point": ("verify", points, {"units": "1", "long_name": POINT_LABEL}),
+        "verify_relative_difference": (
+            ("verify", "criterion", "window"),
+            relative,
+            {"units": "1", "long_name": "|linear - Exudyn| / Exudyn"},
+        ),
+        "verify_max_relative_difference": (
+            (),
+            float(relative.max()),
+            {"units": "1", "long_name": "largest relative criterion difference, linear vs Exudyn plant"},
+        ),
+    }
     for j, name in enumerate(spec.criteria):
         for plant, values in (("linear", linear), ("exudyn", exudyn)):
-            data[f"verify_{name}_{plant}"] = (("verify", "window"), values[:, j], {
-                "units": crit.CRITERIA[name]["units"], "long_name": f"{name} criterion, {plant} plant"})
-    coords = {"criterion": ("criterion", np.array(spec.criteria, dtype=object),
-                            {"units": "1", "long_name": "camera criterion"}), **spec.window_coords()}
+            data[f"verify_{name}_{plant}"] = (
+                ("verify", "window"),
+                values[:, j],
+                {"units": crit.CRITERIA[name]["units"], "long_name": f"{name} criterion, {plant} plant"},
+            )
+    coords = {
+        "criterion": (
+            "criterion",
+            np.array(spec.criteria, dtype=object),
+            {"units": "1", "long_name": "camera criterion"},
+        ),
+        **spec.window_coords(),
+    }
     tolerance = json.dumps(check.tolerance, sort_keys=True)
     return xr.Dataset(data, coords=coords, attrs={"verify_seed": check.seed, "verify_tolerance": tolerance})
 
@@ -489,4 +573,5 @@ def check_verification(spec: GridSpec, checked: xr.Dataset, tolerance: float | d
         raise VerificationFailed(
             f"linear and Exudyn plants differ by {relative[p, j, w]:.3%} (tolerance {limit[j]:.3%}) in the {name} "
             f"criterion, window {window}, at point {index} (f_y {fy:g} Hz, f_z {fz:g} Hz, K {k:g} N/m, C {c:g} "
-            f"N s/m): linear {linear:.6g} {units}, Exudyn {exudyn:.6g} {units}")
+            f"N s/m): linear {linear:.6g} {units}, Exudyn {exudyn:.6g} {units}"
+        )

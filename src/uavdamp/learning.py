@@ -28,8 +28,20 @@ from uavdamp import baselines, model_selection
 from uavdamp.anfis import ANFIS
 
 INPUTS = ("freq_y", "freq_z", "stiffness")
-MODEL_OPTIONS = ("init", "n_mfs", "n_rules", "radius", "epochs", "error_goal", "step_size", "step_increase",
-                 "step_decrease", "min_sigma_frac", "ridge", "validation_fraction")
+MODEL_OPTIONS = (
+    "init",
+    "n_mfs",
+    "n_rules",
+    "radius",
+    "epochs",
+    "error_goal",
+    "step_size",
+    "step_increase",
+    "step_decrease",
+    "min_sigma_frac",
+    "ridge",
+    "validation_fraction",
+)
 EPOCH_SELECTION = ("validation", "checking")
 
 
@@ -89,10 +101,14 @@ class TableModel:
         log_k, log_c = bool(options["log_stiffness"]), bool(options["log_damping"])
         if estimator is None:
             kwargs = {name: options[name] for name in MODEL_OPTIONS if name in options}
-            estimator = ANFIS(**kwargs, random_state=int(options["seed"]),
-                              input_names=["f_y", "f_z", "log10_K" if log_k else "K"],
-                              input_units=["Hz", "Hz", "1" if log_k else "N/m"],
-                              output_name="log10_C" if log_c else "C", output_units="1" if log_c else "N s/m")
+            estimator = ANFIS(
+                **kwargs,
+                random_state=int(options["seed"]),
+                input_names=["f_y", "f_z", "log10_K" if log_k else "K"],
+                input_units=["Hz", "Hz", "1" if log_k else "N/m"],
+                output_name="log10_C" if log_c else "C",
+                output_units="1" if log_c else "N s/m",
+            )
         return cls(estimator, log_k, log_c)
 
     def inputs(self, X) -> np.ndarray:
@@ -125,8 +141,14 @@ class TableModel:
 
     def rules_text(self) -> str:
         """The rules in words, after a line saying what the log10 inputs and output are."""
-        logs = [text for on, text in ((self.log_stiffness, "log10_K = log10(K / (1 N/m))"),
-                                      (self.log_damping, "log10_C = log10(C / (1 N s/m))")) if on]
+        logs = [
+            text
+            for on, text in (
+                (self.log_stiffness, "log10_K = log10(K / (1 N/m))"),
+                (self.log_damping, "log10_C = log10(C / (1 N s/m))"),
+            )
+            if on
+        ]
         return ("; ".join(logs) + "\n" if logs else "") + self.anfis.rules_text()
 
     def to_dataset(self) -> xr.Dataset:
@@ -147,12 +169,11 @@ def regret(grid: xr.Dataset, X: np.ndarray, damping: np.ndarray) -> np.ndarray:
     for i, (fy, fz, k) in enumerate(X):
         row = grid.criterion.sel(freq_y=fy, freq_z=fz, stiffness=k).values
         ok = np.isfinite(row)
-        value = np.interp(np.log(np.clip(damping[i], grid.damping.values[0], grid.damping.values[-1])),
-                          log_c[ok], row[ok])
+        value = np.interp(
+            np.log(np.clip(damping[i], grid.damping.values[0], grid.damping.values[-1])), log_c[ok], row[ok]
+        )
         out[i] = value / np.nanmin(row)
     return out
-
-
 
 
 def _check_options(options: dict) -> tuple[str, list[dict], int, list[str]]:
@@ -201,62 +222,103 @@ def _model_scores(models: dict, X, y, is_train, grid) -> xr.Dataset:
     target, damping, cost = [], [], []
     for model in models.values():
         target.append(model.predict_target(X))
-        damping.append(10.0**target[-1] if model.log_damping else target[-1])
+        damping.append(10.0 ** target[-1] if model.log_damping else target[-1])
         if grid is not None:
             cost.append(regret(grid, X, damping[-1]))
     target, damping = np.array(target), np.array(damping)
     out = anfis.anfis.output_name
     scores = {
-        "check_rmse_target": (np.sqrt(np.mean((target[:, check] - y_learnt[check]) ** 2, axis=1)),
-                              units, f"checking RMSE of the learnt target {out}"),
-        "check_rmse_damping": (np.sqrt(np.mean((damping[:, check] - y[check]) ** 2, axis=1)),
-                               "N s m-1", "checking RMSE of the damping C"),
-        "check_median_relative_error": (np.median(np.abs(damping[:, check] - y[check]) / np.abs(y[check]), axis=1),
-                                        "1", "checking median of |C predicted - C reference| / C reference"),
-        "train_rmse_target": (np.sqrt(np.mean((target[:, is_train] - y_learnt[is_train]) ** 2, axis=1)),
-                              units, f"training RMSE of the learnt target {out}"),
+        "check_rmse_target": (
+            np.sqrt(np.mean((target[:, check] - y_learnt[check]) ** 2, axis=1)),
+            units,
+            f"checking RMSE of the learnt target {out}",
+        ),
+        "check_rmse_damping": (
+            np.sqrt(np.mean((damping[:, check] - y[check]) ** 2, axis=1)),
+            "N s m-1",
+            "checking RMSE of the damping C",
+        ),
+        "check_median_relative_error": (
+            np.median(np.abs(damping[:, check] - y[check]) / np.abs(y[check]), axis=1),
+            "1",
+            "checking median of |C predicted - C reference| / C reference",
+        ),
+        "train_rmse_target": (
+            np.sqrt(np.mean((target[:, is_train] - y_learnt[is_train]) ** 2, axis=1)),
+            units,
+            f"training RMSE of the learnt target {out}",
+        ),
     }
     ds = xr.Dataset({k: ("model", v, {"units": u, "long_name": n}) for k, (v, u, n) in scores.items()})
-    ds["damping_predicted_by_model"] = (("model", "sample"), damping,
-                                        {"units": "N s m-1", "long_name": "C predicted by each model"})
+    ds["damping_predicted_by_model"] = (
+        ("model", "sample"),
+        damping,
+        {"units": "N s m-1", "long_name": "C predicted by each model"},
+    )
     if grid is not None:
         cost = np.array(cost)
-        ds["regret_by_model"] = (("model", "sample"), cost,
-                                 {"units": "1", "long_name": "criterion at the model's damping / optimal criterion"})
-        ds["check_regret_mean"] = ("model", cost[:, check].mean(axis=1),
-                                   {"units": "1", "long_name": "checking mean of the regret"})
-        ds["check_regret_max"] = ("model", cost[:, check].max(axis=1),
-                                  {"units": "1", "long_name": "checking maximum of the regret"})
+        ds["regret_by_model"] = (
+            ("model", "sample"),
+            cost,
+            {"units": "1", "long_name": "criterion at the model's damping / optimal criterion"},
+        )
+        ds["check_regret_mean"] = (
+            "model",
+            cost[:, check].mean(axis=1),
+            {"units": "1", "long_name": "checking mean of the regret"},
+        )
+        ds["check_regret_max"] = (
+            "model",
+            cost[:, check].max(axis=1),
+            {"units": "1", "long_name": "checking maximum of the regret"},
+        )
     names = list(models)
     return ds.assign_coords(
         model=("model", np.array(names, dtype=object), {"units": "1", "long_name": "model name"}),
-        model_description=("model", np.array([baselines.LONG_NAMES[n] for n in names], dtype=object),
-                           {"units": "1", "long_name": "what the model is"}),
+        model_description=(
+            "model",
+            np.array([baselines.LONG_NAMES[n] for n in names], dtype=object),
+            {"units": "1", "long_name": "what the model is"},
+        ),
     )
 
 
 def _epoch_record(fitted: ANFIS, mode: str, validation_fraction: float) -> xr.Dataset:
     """Training and epoch-selection RMSE and step size per epoch of the chosen ANFIS."""
     learnt = {"units": fitted.output_units}
-    rows = ("the checking rows (MATLAB chkFIS: optimistic checking error)" if mode == "checking"
-            else f"a validation {validation_fraction:.0%} of the training rows")
+    rows = (
+        "the checking rows (MATLAB chkFIS: optimistic checking error)"
+        if mode == "checking"
+        else f"a validation {validation_fraction:.0%} of the training rows"
+    )
     validation = fitted.val_rmse_ if fitted.val_rmse_.size else np.full(fitted.train_rmse_.shape, np.nan)
     return xr.Dataset(
         {
-            "train_rmse": ("epoch", fitted.train_rmse_,
-                           {**learnt, "long_name": f"training RMSE of {fitted.output_name}"}),
-            "validation_rmse": ("epoch", validation,
-                                {**learnt, "long_name": f"RMSE of {fitted.output_name} on {rows} (choose the epoch)"}),
-            "step_size": ("epoch", fitted.step_sizes_,
-                          {"units": "1", "long_name": "premise step size (fraction of input range)"}),
+            "train_rmse": (
+                "epoch",
+                fitted.train_rmse_,
+                {**learnt, "long_name": f"training RMSE of {fitted.output_name}"},
+            ),
+            "validation_rmse": (
+                "epoch",
+                validation,
+                {**learnt, "long_name": f"RMSE of {fitted.output_name} on {rows} (choose the epoch)"},
+            ),
+            "step_size": (
+                "epoch",
+                fitted.step_sizes_,
+                {"units": "1", "long_name": "premise step size (fraction of input range)"},
+            ),
         },
-        coords={"epoch": ("epoch", np.arange(1, fitted.train_rmse_.size + 1),
-                          {"units": "1", "long_name": "training epoch"})},
+        coords={
+            "epoch": ("epoch", np.arange(1, fitted.train_rmse_.size + 1), {"units": "1", "long_name": "training epoch"})
+        },
     )
 
 
-def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict,
-          target: dict | None = None) -> tuple[TableModel, xr.Dataset, dict]:
+def train(
+    table: xr.Dataset, grid: xr.Dataset | None, options: dict, target: dict | None = None
+) -> tuple[TableModel, xr.Dataset, dict]:
     """Select, fit and check the ANFIS and the baselines; return the ANFIS, the record, fit times (s).
 
     target: {"criterion", "window"} of a table and grid over every criterion and window (`select_target`);
@@ -278,17 +340,25 @@ def train(table: xr.Dataset, grid: xr.Dataset | None, options: dict,
         {
             "damping_reference": ("sample", y, {"units": "N s m-1", "long_name": "optimal C in the reference table"}),
             "damping_predicted": ("sample", predicted, {"units": "N s m-1", "long_name": "C predicted by the ANFIS"}),
-            "is_training": ("sample", is_train.astype(np.int8),
-                            {"units": "1", "long_name": "1: training split, 0: checking split"}),
+            "is_training": (
+                "sample",
+                is_train.astype(np.int8),
+                {"units": "1", "long_name": "1: training split, 0: checking split"},
+            ),
             **{name: ("sample", X[:, j], {**table[name].attrs}) for j, name in enumerate(INPUTS)},
         },
         coords={"sample": ("sample", np.arange(y.size), {"units": "1", "long_name": "reference table cell"})},
     )
     if grid is not None:
-        samples["regret"] = ("sample", scores.regret_by_model.sel(model="anfis").values,
-                             {"units": "1", "long_name": "criterion at the ANFIS damping / optimal criterion"})
-    record = xr.merge([_epoch_record(model.anfis, mode, options.get("validation_fraction", 0)), samples,
-                       scores, cv], combine_attrs="override")
+        samples["regret"] = (
+            "sample",
+            scores.regret_by_model.sel(model="anfis").values,
+            {"units": "1", "long_name": "criterion at the ANFIS damping / optimal criterion"},
+        )
+    record = xr.merge(
+        [_epoch_record(model.anfis, mode, options.get("validation_fraction", 0)), samples, scores, cv],
+        combine_attrs="override",
+    )
     anfis = scores.sel(model="anfis")
     rel = np.abs(predicted - y) / np.abs(y)
     record.attrs = {

@@ -46,8 +46,18 @@ from uavdamp.statespace import (
 )
 
 # output rows of the plant (camera y, z m; yaw, pitch rad; base y, z m; isolator stroke rate y, z m s-1; mount y, z m)
-OUTPUTS = ("camera_y", "camera_z", "yaw", "pitch", "base_y", "base_z", "stroke_rate_y", "stroke_rate_z",
-           "mount_y", "mount_z")
+OUTPUTS = (
+    "camera_y",
+    "camera_z",
+    "yaw",
+    "pitch",
+    "base_y",
+    "base_z",
+    "stroke_rate_y",
+    "stroke_rate_z",
+    "mount_y",
+    "mount_z",
+)
 _MOUNT = ("mount_y", "mount_z")
 _ISOLATOR = ("iso_y", "iso_z")
 _CACHE_SIZE = 64  # discretisations kept per plant: an on-off law needs 2, a continuous law one per new C
@@ -81,10 +91,16 @@ def _at_rest(mbs) -> None:
 def _camera_jacobian(model, step: float = 1e-6) -> np.ndarray:
     """d(camera position)/dq (3, n) by central differences of Exudyn's kinematic-tree sensor (added, then removed)."""
     mbs = model.mbs
-    sensor = mbs.AddSensor(SensorKinematicTree(objectNumber=model.tree, linkNumber=model.n - 1,
-                                               localPosition=np.asarray(model.camera_local, float).tolist(),
-                                               outputVariableType=exu.OutputVariableType.Position,
-                                               storeInternal=False, writeToFile=False))
+    sensor = mbs.AddSensor(
+        SensorKinematicTree(
+            objectNumber=model.tree,
+            linkNumber=model.n - 1,
+            localPosition=np.asarray(model.camera_local, float).tolist(),
+            outputVariableType=exu.OutputVariableType.Position,
+            storeInternal=False,
+            writeToFile=False,
+        )
+    )
     mbs.Assemble()
     try:
         jac = np.zeros((3, model.n))
@@ -130,9 +146,18 @@ def linearise(model) -> Linearisation:
         for name, value in saved.items():
             mbs.SetObjectParameter(tree, name, value)
     (m, k0, d0), (_, k1, d1) = found
-    return Linearisation(mass=m, stiffness0=k0, stiffness_unit=k1 - k0, damping0=d0, damping_unit=d1 - d0,
-                         camera_jacobian=_camera_jacobian(model), link_index=dict(model.link_index),
-                         servo_ki=np.array(model.servo_ki, dtype=float), mount=model.mount, body=model.body)
+    return Linearisation(
+        mass=m,
+        stiffness0=k0,
+        stiffness_unit=k1 - k0,
+        damping0=d0,
+        damping_unit=d1 - d0,
+        camera_jacobian=_camera_jacobian(model),
+        link_index=dict(model.link_index),
+        servo_ki=np.array(model.servo_ki, dtype=float),
+        mount=model.mount,
+        body=model.body,
+    )
 
 
 class LinearModel:
@@ -281,9 +306,14 @@ class LinearPlant:
         q = model.tq @ z + model.pq @ run["u"][n]
         q_rate = model.tv @ z + model.pq @ mount_v
         observation = Observation(
-            t_now=float(run["time"][n]), time=run["time"][: n + 1], mount_y=run["u"][: n + 1, 0],
-            mount_z=run["u"][: n + 1, 1], base_velocity=mount_v + q_rate[iso], mount_velocity=mount_v.copy(),
-            stroke=q[iso])
+            t_now=float(run["time"][n]),
+            time=run["time"][: n + 1],
+            mount_y=run["u"][: n + 1, 0],
+            mount_z=run["u"][: n + 1, 1],
+            base_velocity=mount_v + q_rate[iso],
+            mount_velocity=mount_v.copy(),
+            stroke=q[iso],
+        )
         return contract.clip(law(observation), self.bounds, observation.t_now)
 
     def run(self, time, mount_y, mount_z, *, stiffness: float | None = None, law=None) -> xr.Dataset:
@@ -345,12 +375,23 @@ class LinearPlant:
         def pair(prefix):
             return out[:, [row[f"{prefix}_y"], row[f"{prefix}_z"]]].T
 
-        values = {"camera_displacement": pair("camera"), "camera_yaw": out[:, row["yaw"]],
-                  "camera_pitch": out[:, row["pitch"]], "damping": applied, "mount_displacement": pair("mount"),
-                  "base_displacement": pair("base"), "isolator_velocity": pair("stroke_rate")}
-        attrs = {"title": "Camera platform response to a prescribed fuselage displacement", "plant": self.name,
-                 "mount": self.mount, "body": self.body, "isolator_stiffness_N_m": stiffness,
-                 "time_step_s": self.params.time_step}
+        values = {
+            "camera_displacement": pair("camera"),
+            "camera_yaw": out[:, row["yaw"]],
+            "camera_pitch": out[:, row["pitch"]],
+            "damping": applied,
+            "mount_displacement": pair("mount"),
+            "base_displacement": pair("base"),
+            "isolator_velocity": pair("stroke_rate"),
+        }
+        attrs = {
+            "title": "Camera platform response to a prescribed fuselage displacement",
+            "plant": self.name,
+            "mount": self.mount,
+            "body": self.body,
+            "isolator_stiffness_N_m": stiffness,
+            "time_step_s": self.params.time_step,
+        }
         return contract.response_dataset(grid, values, attrs)
 
 
@@ -365,8 +406,17 @@ def window_steps(duration: float, window: tuple[float, float], h: float) -> np.n
     return k
 
 
-def sine_criteria(plant: LinearPlant, stiffness: float, damping: float, freq_y_hz, freq_z_hz, amplitude: float,
-                  duration: float, windows: dict, camera=None) -> dict[str, np.ndarray]:
+def sine_criteria(
+    plant: LinearPlant,
+    stiffness: float,
+    damping: float,
+    freq_y_hz,
+    freq_z_hz,
+    amplitude: float,
+    duration: float,
+    windows: dict,
+    camera=None,
+) -> dict[str, np.ndarray]:
     """Every criterion (`uavdamp.criterion`) of every (f_y, f_z) pair at constant (K, C) and every window.
 
     Returns {criterion: (n_windows, n_fy, n_fz)} in `windows` order (blur only with a `camera`). Inputs

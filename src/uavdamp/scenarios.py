@@ -34,11 +34,16 @@ def scenario_specs(cfg: dict) -> dict[str, dict]:
     """{name: spec} of every scenario of the config's benchmark section (spec["kind"] in KINDS)."""
     heli = cfg["helicopter"]
     specs = {}
-    for mass, ratio, tail in itertools.product(heli["imbalance_mass_factor"], heli["rotor_speed_ratio"],
-                                               heli["tail_rotor"]):
+    for mass, ratio, tail in itertools.product(
+        heli["imbalance_mass_factor"], heli["rotor_speed_ratio"], heli["tail_rotor"]
+    ):
         name = f"heli_m{float(mass):g}_r{float(ratio):g}_tail_{'on' if tail else 'off'}"
-        specs[name] = {"kind": "helicopter", "mass_factor": float(mass), "speed_ratio": float(ratio),
-                       "tail_rotor": bool(tail)}
+        specs[name] = {
+            "kind": "helicopter",
+            "mass_factor": float(mass),
+            "speed_ratio": float(ratio),
+            "tail_rotor": bool(tail),
+        }
     for entry in cfg.get("synthetic", []):
         spec = {k: v for k, v in entry.items() if k != "name"}
         name = str(entry.get("name"))
@@ -63,14 +68,18 @@ def split(names, tuning_fraction: float, seed: int) -> dict[str, str]:
     return {name: ("tuning" if name in tuning else "evaluation") for name in names}
 
 
-def helicopter_input(heli_cfg: dict, spec: dict, *, duration: float, highpass_hz: float, amplitude: float,
-                     band_hz: tuple[float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def helicopter_input(
+    heli_cfg: dict, spec: dict, *, duration: float, highpass_hz: float, amplitude: float, band_hz: tuple[float, float]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(time s, y m, z m) of one helicopter scenario (module docstring); heli_cfg: the config's helicopter section."""
     heli = H.Helicopter.from_config(heli_cfg)
     ratio = spec["speed_ratio"]
     tail = heli_cfg["tail_rotor"]["omega_running_rad_s"] * ratio if spec["tail_rotor"] else 0.0
-    heli = replace(heli, imbalance_mass_factor=spec["mass_factor"],
-                   main_rotor=replace(heli.main_rotor, omega_rad_s=heli.main_rotor.omega_rad_s * ratio))
+    heli = replace(
+        heli,
+        imbalance_mass_factor=spec["mass_factor"],
+        main_rotor=replace(heli.main_rotor, omega_rad_s=heli.main_rotor.omega_rad_s * ratio),
+    )
     heli = heli.with_tail_rotor_speed(tail)
     heli.validate()
     run = H.run(heli, H.SolverOptions.from_config({**heli_cfg["solver"], "duration": duration}))
@@ -107,14 +116,25 @@ def scenario_input(name: str, cfg: dict, heli_cfg: dict, time_step: float) -> xr
         raise ValueError(f"benchmark scenario: unknown {name!r} (known: {sorted(specs)})")
     spec, duration, amplitude = specs[name], float(cfg["duration_s"]), float(cfg["amplitude_m"])
     if spec["kind"] == "helicopter":
-        t, y, z = helicopter_input(heli_cfg, spec, duration=duration, highpass_hz=float(cfg["highpass_hz"]),
-                                   amplitude=amplitude, band_hz=tuple(cfg["band_hz"]))
+        t, y, z = helicopter_input(
+            heli_cfg,
+            spec,
+            duration=duration,
+            highpass_hz=float(cfg["highpass_hz"]),
+            amplitude=amplitude,
+            band_hz=tuple(cfg["band_hz"]),
+        )
     else:
         t, y, z = synthetic_input(spec, duration=duration, amplitude=amplitude, time_step=time_step)
     return xr.Dataset(
         {"mount_displacement": (("axis", "time"), np.stack([y, z]), _ATTRS)},
-        coords={"axis": ("axis", ["y", "z"], {"units": "1", "long_name": "direction (y lateral, z up)"}),
-                "time": ("time", t, {"units": "s", "long_name": "time"})},
-        attrs={"scenario": name, "kind": spec["kind"],
-               "spec": ", ".join(f"{k}={v}" for k, v in spec.items() if k != "kind")},
+        coords={
+            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "direction (y lateral, z up)"}),
+            "time": ("time", t, {"units": "s", "long_name": "time"}),
+        },
+        attrs={
+            "scenario": name,
+            "kind": spec["kind"],
+            "spec": ", ".join(f"{k}={v}" for k, v in spec.items() if k != "kind"),
+        },
     )

@@ -89,8 +89,11 @@ class TableModel:
 
     def __init__(self, table: xr.Dataset):
         da = table["damping_opt"].transpose("freq_y", "freq_z", "stiffness")
-        self.axes = (np.asarray(table.freq_y, float), np.asarray(table.freq_z, float),
-                     np.log10(np.asarray(table.stiffness, float)))
+        self.axes = (
+            np.asarray(table.freq_y, float),
+            np.asarray(table.freq_z, float),
+            np.log10(np.asarray(table.stiffness, float)),
+        )
         self._interp = RegularGridInterpolator(self.axes, np.asarray(da.values, float), method="linear")
 
     def predict(self, X) -> np.ndarray:
@@ -117,8 +120,9 @@ class Lagged:
             raise ValueError(f"damper_lag_s: must be > 0, got {tau}")
         ratio = inner_period / time_step
         if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
-            raise ValueError(f"update_period ({inner_period} s) must be a positive multiple of time_step "
-                             f"({time_step} s)")
+            raise ValueError(
+                f"update_period ({inner_period} s) must be a positive multiple of time_step ({time_step} s)"
+            )
         self.law, self.tau, self.bounds = law, float(tau), bounds
         self.update_period, self.per_update = float(time_step), int(round(ratio))
         self.decay = math.exp(-time_step / tau)
@@ -173,8 +177,17 @@ class ClippedOptimal:
 
     name = "clipped_optimal"
 
-    def __init__(self, model, stiffness: float, bounds: DamperBounds, time_step: float, *, q_scale: float,
-                 r_scale: float, mode: str = "continuous"):
+    def __init__(
+        self,
+        model,
+        stiffness: float,
+        bounds: DamperBounds,
+        time_step: float,
+        *,
+        q_scale: float,
+        r_scale: float,
+        mode: str = "continuous",
+    ):
         from uavdamp.linear_plant import OUTPUTS
 
         if mode not in ("continuous", "on_off"):
@@ -226,8 +239,12 @@ class ClippedOptimal:
         else:
             u_prev = np.array([obs.mount_y[-2], obs.mount_z[-2]])
             slope = (u - u_prev) / (obs.time[-1] - obs.time[-2])
-            z = (self.step.phi @ self.z_hat + self.step.gamma_u @ u_prev + self.step.gamma_v @ slope
-                 + self.gamma_f @ self._force)
+            z = (
+                self.step.phi @ self.z_hat
+                + self.step.gamma_u @ u_prev
+                + self.step.gamma_v @ slope
+                + self.gamma_f @ self._force
+            )
         measured = np.concatenate([np.asarray(obs.stroke, float) + u, np.asarray(obs.base_velocity, float)])
         predicted = np.concatenate([self.h_pos @ z + self.du_pos @ u, self.h_vel @ z])
         return z + self.kalman @ (measured - predicted)
@@ -241,8 +258,12 @@ class ClippedOptimal:
             c = projected_damping(desired, v_rel, b.c_min, b.c_max)
         else:
             present = -self._c_prev * v_rel
-            c = b.c_max if float(np.dot(desired - present, present)) > 0.0 or (
-                not np.any(present) and float(np.dot(desired, v_rel)) < 0.0) else b.c_min
+            c = (
+                b.c_max
+                if float(np.dot(desired - present, present)) > 0.0
+                or (not np.any(present) and float(np.dot(desired, v_rel)) < 0.0)
+                else b.c_min
+            )
         c = min(max(c, b.c_min), b.c_max)  # the law's own record of the force it gets (the plant clips the same)
         self._c_prev, self._force = c, -c * v_rel
         return c

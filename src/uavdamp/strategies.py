@@ -127,8 +127,14 @@ def skyhook(ctx: Context) -> Strategy:
     return Strategy("skyhook", "isolated", laws.Skyhook(ctx.bounds.c_max, ctx.bounds.c_min, ctx.params.time_step))
 
 
-def best_constant(cost: Callable[[float], float], candidates: Sequence[float], bounds: DamperBounds, *,
-                  xatol_log: float = 0.01, maxiter: int = 20) -> tuple[float, float]:
+def best_constant(
+    cost: Callable[[float], float],
+    candidates: Sequence[float],
+    bounds: DamperBounds,
+    *,
+    xatol_log: float = 0.01,
+    maxiter: int = 20,
+) -> tuple[float, float]:
     """The constant C (N s m-1) minimising cost(C), and its cost: the candidates first, then a refinement.
 
     candidates: > 0 and within the bounds (e.g. a log grid). The refinement is scipy's bounded Brent search
@@ -153,8 +159,12 @@ def best_constant(cost: Callable[[float], float], candidates: Sequence[float], b
     values = np.array([evaluate(c) for c in grid])
     k = int(np.argmin(values))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-    minimize_scalar(lambda log_c: evaluate(math.exp(log_c)), bounds=(math.log(lo), math.log(hi)), method="bounded",
-                    options={"xatol": xatol_log, "maxiter": maxiter})
+    minimize_scalar(
+        lambda log_c: evaluate(math.exp(log_c)),
+        bounds=(math.log(lo), math.log(hi)),
+        method="bounded",
+        options={"xatol": xatol_log, "maxiter": maxiter},
+    )
     c_best, value_best = min(cache.items(), key=lambda e: (e[1], e[0]))
     return c_best, value_best
 
@@ -225,8 +235,14 @@ def clipped_optimal(ctx: Context) -> Strategy:
     from uavdamp.semi_active import ClippedOptimal
 
     plant = _needs(ctx, "clipped_optimal", "linear")
-    law = ClippedOptimal(plant.model, ctx.stiffness, ctx.bounds, ctx.params.time_step,
-                         q_scale=_tuned(ctx, "clipped_optimal_q_scale"), r_scale=_tuned(ctx, "clipped_optimal_r_scale"))
+    law = ClippedOptimal(
+        plant.model,
+        ctx.stiffness,
+        ctx.bounds,
+        ctx.params.time_step,
+        q_scale=_tuned(ctx, "clipped_optimal_q_scale"),
+        r_scale=_tuned(ctx, "clipped_optimal_r_scale"),
+    )
     return Strategy("clipped_optimal", "isolated", law)
 
 
@@ -243,8 +259,22 @@ def clairvoyant(ctx: Context) -> Strategy:
     if "passive_damping" in ctx.tuned:  # the tuned passive C is a candidate: the bound is never above it
         candidates = np.append(candidates, min(max(ctx.tuned["passive_damping"], bounds.c_min), bounds.c_max))
     period = ctx.params.update_period
-    found = cv.schedule(plant, time, y, z, stiffness=ctx.stiffness, candidates=candidates, update_period=period,
-                        beam_width=o.beam_width, criterion=o.criterion)
-    info = {"clairvoyant_cost": (found.cost, "m" if found.criterion == "camera_std" else "rad",
-                                 f"clairvoyant schedule's {found.criterion}")}
+    found = cv.schedule(
+        plant,
+        time,
+        y,
+        z,
+        stiffness=ctx.stiffness,
+        candidates=candidates,
+        update_period=period,
+        beam_width=o.beam_width,
+        criterion=o.criterion,
+    )
+    info = {
+        "clairvoyant_cost": (
+            found.cost,
+            "m" if found.criterion == "camera_std" else "rad",
+            f"clairvoyant schedule's {found.criterion}",
+        )
+    }
     return Strategy("clairvoyant", "isolated", laws.Schedule(found.values, update_period=period), info)

@@ -13,5 +13,6 @@ io.write_text(table, snakemake.output.table)
 io.save_figure(plots.criteria_figure(ds), snakemake.output.figure)
 io.save_figure(plots.boxplot_figure(ds), snakemake.output.boxplots)
 config = {"split": snakemake.params.split, "runs": snakemake.params.runs}
-io.write_netcdf(ds, snakemake.output.criteria, config, section="benchmark",
-                command=workflow.snakemake_command(snakemake))
+io.write_netcdf(
+    ds, snakemake.output.criteria, config, section="benchmark", command=workflow.snakemake_command(snakemake)
+)

@@ -13,9 +13,14 @@ p = snakemake.params
 options = benchmark.BenchmarkOptions.from_config(p.runs, p.tracking, p.camera)
 model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
 tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
-ds = benchmark.run_scenario(io.open_dataset(snakemake.input.scenario), tuned,
-                            PlatformParams.from_config(p.platform), options, model=model,
-                            table=io.open_dataset(snakemake.input.table))
+ds = benchmark.run_scenario(
+    io.open_dataset(snakemake.input.scenario),
+    tuned,
+    PlatformParams.from_config(p.platform),
+    options,
+    model=model,
+    table=io.open_dataset(snakemake.input.table),
+)
 workflow.log_info(ds.J.sel(damper="ideal").to_dataframe().J.unstack("criterion").to_string())
 config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform": p.platform}
 io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))

@@ -18,17 +18,21 @@ for path in snakemake.input.chunks:  # "i-of-N.nc": each one checked before it i
     made_with = {"reference_table": snakemake.params.grid, "camera": snakemake.params.camera, "platform": platform}
     parts.append(chunks.load_chunk(path, points=points, config=made_with))
 full = grid.merge_chunks(spec, parts)
-workflow.log_info(f"{full.attrs['n_points']} points ({full.attrs['plant']} plant), {full.attrs['n_failed']} failed; "
-                  f"plant {full.attrs['solver_time_s']:.1f} s, build {full.attrs['build_time_s']:.2f} s, "
-                  f"workers {full.attrs['worker_time_s']:.1f} s")
+workflow.log_info(
+    f"{full.attrs['n_points']} points ({full.attrs['plant']} plant), {full.attrs['n_failed']} failed; "
+    f"plant {full.attrs['solver_time_s']:.1f} s, build {full.attrs['build_time_s']:.2f} s, "
+    f"workers {full.attrs['worker_time_s']:.1f} s"
+)
 check = grid.VerifySpec.from_config(snakemake.params.verify)
 checked = grid.verify(platform, spec, full, check, n_jobs=snakemake.threads)
 full = full.assign(checked.data_vars)
 full.attrs.update(checked.attrs)
 largest = checked.verify_relative_difference.max(["verify", "window"])
-workflow.log_info(f"verification: {check.n_points} points, largest relative difference linear vs Exudyn per "
-                  f"criterion {dict(zip(largest.criterion.values, largest.values.round(5).tolist(), strict=True))} "
-                  f"(tolerance {check.tolerance})")
+workflow.log_info(
+    f"verification: {check.n_points} points, largest relative difference linear vs Exudyn per "
+    f"criterion {dict(zip(largest.criterion.values, largest.values.round(5).tolist(), strict=True))} "
+    f"(tolerance {check.tolerance})"
+)
 grid.check_verification(spec, checked, check.tolerance)  # raises VerificationFailed naming the worst point
 table = criterion.reference_table(full, snakemake.params.flat_tolerance)
 chosen = criterion.select_table(table, target["criterion"], target["window"])
@@ -36,12 +40,19 @@ table.attrs.update(plant=full.attrs["plant"], criterion=target["criterion"], win
 for name in table.criterion.values:
     for window in table.window.values:
         part = table.sel(criterion=name, window=window)
-        workflow.log_info(f"{name}, {window}: optimal damping spread per stiffness "
-                          f"{part.damping_opt_spread.values.round(2).tolist()}; scheduling gain per stiffness "
-                          f"{part.scheduling_gain.values.round(3).tolist()}")
+        workflow.log_info(
+            f"{name}, {window}: optimal damping spread per stiffness "
+            f"{part.damping_opt_spread.values.round(2).tolist()}; scheduling gain per stiffness "
+            f"{part.scheduling_gain.values.round(3).tolist()}"
+        )
 workflow.log_info(f"the ANFIS learns: {target['criterion']}, {target['window']} window")
-config = {"reference_table": {**snakemake.params.grid, **target}, "flat_tolerance": snakemake.params.flat_tolerance,
-          "verify": snakemake.params.verify, "camera": snakemake.params.camera, "platform": platform}
+config = {
+    "reference_table": {**snakemake.params.grid, **target},
+    "flat_tolerance": snakemake.params.flat_tolerance,
+    "verify": snakemake.params.verify,
+    "camera": snakemake.params.camera,
+    "platform": platform,
+}
 command = workflow.snakemake_command(snakemake)
 io.save_figure(reference_table_figure(chosen), snakemake.output.figure)
 io.save_figure(criteria_figure(table), snakemake.output.criteria)

@@ -10,7 +10,9 @@ cfg, fig = snakemake.params.study, snakemake.params.figures
 cases = io.open_dataset(snakemake.input.cases)
 model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
 ds = study.run_study(cases, snakemake.params.platform, model, study.StudyOptions.from_config(cfg), progress=True)
-scalars = [v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}]
+scalars = [
+    v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}
+]
 for name in scalars:
     workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 k_paper = float(ds.stiffness[0])

@@ -33,8 +33,9 @@ def boxplot_figure(ds: xr.Dataset, criteria=("los_std", "blur_p95", "displacemen
     """Box plots of J over the evaluation scenarios per controller, one row per criterion, one column per K."""
     ks = ds.stiffness.values
     evaluation = ds.J.where(ds.set == "evaluation", drop=True).sel(damper=damper)
-    fig, axes = plt.subplots(len(criteria), ks.size, figsize=(6 * ks.size, 3.2 * len(criteria)), squeeze=False,
-                             constrained_layout=True)
+    fig, axes = plt.subplots(
+        len(criteria), ks.size, figsize=(6 * ks.size, 3.2 * len(criteria)), squeeze=False, constrained_layout=True
+    )
     names = [str(c) for c in ds.controller.values]
     for col, k in enumerate(ks):
         for row, criterion in enumerate(criteria):
@@ -53,12 +54,18 @@ def markdown_table(ds: xr.Dataset, damper: str = "ideal", criteria=None) -> str:
     criteria = list(ds.criterion.values) if criteria is None else list(criteria)
     lines = []
     for k in ds.stiffness.values:
-        lines += [f"K = {k:g} N/m, {damper} damper (mean / worst J over the evaluation set; J = 1: rigid)", "",
-                  "| controller | " + " | ".join(criteria) + " |", "|---" * (len(criteria) + 1) + "|"]
+        lines += [
+            f"K = {k:g} N/m, {damper} damper (mean / worst J over the evaluation set; J = 1: rigid)",
+            "",
+            "| controller | " + " | ".join(criteria) + " |",
+            "|---" * (len(criteria) + 1) + "|",
+        ]
         for c in ds.controller.values:
-            cells = [f"{float(ds.J_mean.sel(controller=c, stiffness=k, damper=damper, criterion=x)):.3g} / "
-                     f"{float(ds.J_worst.sel(controller=c, stiffness=k, damper=damper, criterion=x)):.3g}"
-                     for x in criteria]
+            cells = [
+                f"{float(ds.J_mean.sel(controller=c, stiffness=k, damper=damper, criterion=x)):.3g} / "
+                f"{float(ds.J_worst.sel(controller=c, stiffness=k, damper=damper, criterion=x)):.3g}"
+                for x in criteria
+            ]
             lines.append(f"| {c} | " + " | ".join(cells) + " |")
         lines.append("")
     return "\n".join(lines)

@@ -24,11 +24,18 @@ def reference_table_figure(table: xr.Dataset):
     f_norm = LogNorm(vmin=1.0, vmax=max(float(flat.max()), 1.01))
     extent = [float(table.freq_z[0]), float(table.freq_z[-1]), float(table.freq_y[0]), float(table.freq_y[-1])]
     for j, k in enumerate(stiffness):
-        for row, (data, norm, label) in enumerate(((c, c_norm, "optimal C (N s/m)"),
-                                                   (flat, f_norm, "flat band: C_max / C_min within tolerance"))):
+        for row, (data, norm, label) in enumerate(
+            ((c, c_norm, "optimal C (N s/m)"), (flat, f_norm, "flat band: C_max / C_min within tolerance"))
+        ):
             ax = fig.add_subplot(grid[row, j])
-            im = ax.imshow(data.sel(stiffness=k).values, origin="lower", aspect="auto", extent=extent,
-                           norm=norm, cmap="viridis" if row == 0 else "magma")
+            im = ax.imshow(
+                data.sel(stiffness=k).values,
+                origin="lower",
+                aspect="auto",
+                extent=extent,
+                norm=norm,
+                cmap="viridis" if row == 0 else "magma",
+            )
             ax.set(xlabel="f_z (Hz)", ylabel="f_y (Hz)" if j == 0 else None, title=f"K = {k:.3g} N/m")
             if j == n - 1:
                 fig.colorbar(im, ax=ax, label=label)
@@ -36,8 +43,7 @@ def reference_table_figure(table: xr.Dataset):
     ax.semilogx(stiffness, table.damping_opt_spread, "o-", label="spread of optimal C (max/min)")
     ax.semilogx(stiffness, table.scheduling_gain, "s-", label="scheduling gain (best constant C / optimal C)")
     ax.axhline(1.0, color="k", lw=0.8, ls=":")
-    ax.set(xlabel="isolator stiffness K (N/m)", ylabel="ratio (1)",
-           title="where frequency-scheduled damping can help")
+    ax.set(xlabel="isolator stiffness K (N/m)", ylabel="ratio (1)", title="where frequency-scheduled damping can help")
     ax.legend(fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
     return fig
@@ -57,14 +63,21 @@ def criteria_figure(table: xr.Dataset):
     extent = [float(table.freq_z[0]), float(table.freq_z[-1]), float(table.freq_y[0]), float(table.freq_y[-1])]
     chosen = (table.attrs.get("criterion"), table.attrs.get("window"))
     size = (2.4 * len(columns) + 1.2, 2.0 * stiffness.size + 0.8)
-    fig, axes = plt.subplots(stiffness.size, len(columns), figsize=size, squeeze=False, sharex=True, sharey=True,
-                             constrained_layout=True)
+    fig, axes = plt.subplots(
+        stiffness.size, len(columns), figsize=size, squeeze=False, sharex=True, sharey=True, constrained_layout=True
+    )
     for j, (name, window) in enumerate(columns):
         part = table.sel(criterion=name, window=window)
         for i, k in enumerate(stiffness):
             ax = axes[i, j]
-            im = ax.imshow(part.damping_opt.sel(stiffness=k).values, origin="lower", aspect="auto", extent=extent,
-                           norm=norm, cmap="viridis")
+            im = ax.imshow(
+                part.damping_opt.sel(stiffness=k).values,
+                origin="lower",
+                aspect="auto",
+                extent=extent,
+                norm=norm,
+                cmap="viridis",
+            )
             gain = float(part.scheduling_gain.sel(stiffness=k))
             ax.set_title(f"K {k:.3g} N/m, gain {gain:.2f}", fontsize=7)
             ax.tick_params(labelsize=6)

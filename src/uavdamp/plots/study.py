@@ -9,8 +9,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-COLOURS = {"rigid": "tab:gray", "passive": "tab:red", "optimal_passive": "tab:orange", "anfis": "tab:blue",
-           "skyhook": "tab:green"}
+COLOURS = {
+    "rigid": "tab:gray",
+    "passive": "tab:red",
+    "optimal_passive": "tab:orange",
+    "anfis": "tab:blue",
+    "skyhook": "tab:green",
+}
 _OTHERS = ("tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "black")
 
 
@@ -41,14 +46,22 @@ def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: flo
     part = ds.sel(case=case, time=slice(0, window_s))
     fig, ax = plt.subplots(figsize=(8, 3.6), constrained_layout=True)
     ax.plot(part.time, _mm(part.mount_displacement.sel(axis=axis)), color="0.6", lw=0.8, label="input (fuselage)")
-    ax.plot(part.time, _mm(part.camera_displacement.sel(stiffness=ds.stiffness[0], strategy="rigid", axis=axis)),
-            color="k", lw=1.2, label="camera, rigid mount")
+    ax.plot(
+        part.time,
+        _mm(part.camera_displacement.sel(stiffness=ds.stiffness[0], strategy="rigid", axis=axis)),
+        color="k",
+        lw=1.2,
+        label="camera, rigid mount",
+    )
     for sign in (1, -1):
         ax.axhline(sign * 1.5, color="tab:red", ls=":", lw=0.8)
     ax.axvline(0.5, color="0.3", ls="--", lw=0.6)
     peak = 1e3 * float(ds.peak_early.sel(case=case, stiffness=ds.stiffness[0], strategy="rigid", axis=axis))
-    ax.set(xlabel="time (s)", ylabel=f"{axis.upper()} displacement (mm)",
-           title=f"{case}: camera {axis.upper()} without isolation (peak before 0.5 s: {peak:.2f} mm; paper: > 1.5 mm)")
+    ax.set(
+        xlabel="time (s)",
+        ylabel=f"{axis.upper()} displacement (mm)",
+        title=f"{case}: camera {axis.upper()} without isolation (peak before 0.5 s: {peak:.2f} mm; paper: > 1.5 mm)",
+    )
     ax.legend(fontsize=8)
     return fig
 
@@ -59,8 +72,13 @@ def passive_vs_anfis_figure(ds: xr.Dataset, case: str, axis: str, stiffness: flo
     fig, (ax, axc) = plt.subplots(2, 1, figsize=(8, 5), sharex=True, height_ratios=[3, 1.3], constrained_layout=True)
     for strategy in ("passive", "anfis"):
         peak = 1e3 * float(ds.peak_early.sel(case=case, stiffness=stiffness, strategy=strategy, axis=axis))
-        ax.plot(part.time, _mm(part.camera_displacement.sel(strategy=strategy, axis=axis)), color=colour(strategy),
-                lw=1.1, label=f"{strategy} (peak before 0.5 s: {peak:.3f} mm)")
+        ax.plot(
+            part.time,
+            _mm(part.camera_displacement.sel(strategy=strategy, axis=axis)),
+            color=colour(strategy),
+            lw=1.1,
+            label=f"{strategy} (peak before 0.5 s: {peak:.3f} mm)",
+        )
         axc.step(part.time, part.damping.sel(strategy=strategy), where="post", color=colour(strategy))
     ax.axvline(0.5, color="0.3", ls="--", lw=0.6)
     ax.set(ylabel=f"camera {axis.upper()} (mm)", title=f"{case}, K = {stiffness:g} N/m: passive vs ANFIS semi-active")
@@ -75,8 +93,11 @@ def tracked_frequency_figure(ds: xr.Dataset, case: str, axis: str = "z"):
     fig, ax = plt.subplots(figsize=(8, 3.4), constrained_layout=True)
     freq = ds.tracked_freq.sel(case=case, axis=axis)
     ax.plot(ds.update_time, freq, "o-", color="tab:blue", label=f"{axis.upper()}, tracked every update")
-    ax.set(xlabel="time (s)", ylabel="dominant frequency (Hz)",
-           title=f"{case}: dominant {axis.upper()} frequency seen by the controller (NaN before enough signal)")
+    ax.set(
+        xlabel="time (s)",
+        ylabel="dominant frequency (Hz)",
+        title=f"{case}: dominant {axis.upper()} frequency seen by the controller (NaN before enough signal)",
+    )
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return fig
@@ -91,16 +112,27 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 3.0):
         for col, axis in enumerate(("y", "z")):
             ax = axes[row, col]
             for strategy in ds.strategy.values:
-                ax.plot(part.time, _mm(part.camera_displacement.sel(stiffness=k, strategy=strategy, axis=axis)),
-                        color=colour(str(strategy), ds.strategy.values), lw=0.9, label=str(strategy))
+                ax.plot(
+                    part.time,
+                    _mm(part.camera_displacement.sel(stiffness=k, strategy=strategy, axis=axis)),
+                    color=colour(str(strategy), ds.strategy.values),
+                    lw=0.9,
+                    label=str(strategy),
+                )
             ax.set(xlabel="time (s)", ylabel=f"camera {axis.upper()} (mm)", title=f"K = {k:g} N/m, {axis.upper()}")
             if row == 0 and col == 0:
                 ax.legend(fontsize=7)
         ax = axes[row, 2]
         for strategy in ds.strategy.values:
             if strategy != "rigid":
-                ax.step(part.time, part.damping.sel(stiffness=k, strategy=strategy), where="post",
-                        color=colour(str(strategy), ds.strategy.values), lw=0.9, label=str(strategy))
+                ax.step(
+                    part.time,
+                    part.damping.sel(stiffness=k, strategy=strategy),
+                    where="post",
+                    color=colour(str(strategy), ds.strategy.values),
+                    lw=0.9,
+                    label=str(strategy),
+                )
         ax.set(xlabel="time (s)", ylabel="C (N s/m)", title=f"K = {k:g} N/m: damping")
         _damping_axis(ax, part.damping.sel(stiffness=k).values)
         ax = axes[row, 3]
@@ -122,8 +154,14 @@ def blur_distribution_figure(ds: xr.Dataset):
     the sharp-frame threshold (camera attrs of comparison.nc) as a dashed line."""
     cases, stiffness = ds.case.values, ds.stiffness.values
     names = [str(s) for s in ds.strategy.values]
-    fig, axes = plt.subplots(cases.size, stiffness.size, figsize=(4.2 * stiffness.size, 3.4 * cases.size),
-                             squeeze=False, sharey=True, constrained_layout=True)
+    fig, axes = plt.subplots(
+        cases.size,
+        stiffness.size,
+        figsize=(4.2 * stiffness.size, 3.4 * cases.size),
+        squeeze=False,
+        sharey=True,
+        constrained_layout=True,
+    )
     threshold = ds.attrs.get("camera_sharp_threshold_px")
     for i, case in enumerate(cases):
         for j, k in enumerate(stiffness):
