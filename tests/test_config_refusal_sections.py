@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import pytest
 from snakemake.exceptions import WorkflowError
-
 from test_config_checks import _merged, _validate_and_check
 
 

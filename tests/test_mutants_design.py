@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 import scipy.linalg
-
 from test_platform import params
+
 from uavdamp.platform.design import design_stiffness, mass_matrix, pitch_link
 
 TARGETS_HZ = (6.7, 5.7, 4.5)

@@ -9,8 +9,8 @@ import math
 
 import numpy as np
 import pytest
-
 from test_image_quality import CAM, F
+
 from uavdamp import image_quality as iq
 from uavdamp import laws, metrics
 from uavdamp.contract import Observation

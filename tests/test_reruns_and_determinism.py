@@ -12,8 +12,8 @@ import copy
 import numpy as np
 import pytest
 import yaml
-
 from conftest import copy_workflow, load_config, snakemake
+
 from uavdamp import io
 
 HELICOPTER_ALL = {"helicopter_run", "helicopter_vibration", "helicopter_campbell", "helicopter_sensitivity_run",
