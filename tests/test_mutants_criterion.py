@@ -183,3 +183,47 @@ def test_optimal_passive_ties_take_the_smallest_damping():
     assert value == 1.0
     first_flat = candidates[candidates >= 2.0][0]  # the smallest candidate on the flat part
     assert c_best <= first_flat and cost(c_best) == 1.0
+
+
+TABLE_METADATA = {  # name: (dims, units, long_name) of every variable reference_table returns (flat_tolerance 0.05)
+    "damping_opt": (("freq_y", "freq_z", "stiffness"), "N s m-1", "damping minimising the criterion at each stiffness"),
+    "criterion_opt": (("freq_y", "freq_z", "stiffness"), "m", "criterion at damping_opt"),
+    "damping_flat_min": (("freq_y", "freq_z", "stiffness"), "N s m-1", "smallest damping within 5% of criterion_opt"),
+    "damping_flat_max": (("freq_y", "freq_z", "stiffness"), "N s m-1", "largest damping within 5% of criterion_opt"),
+    "stiffness_opt": (("freq_y", "freq_z"), "N m-1", "stiffness of the overall best (K, C)"),
+    "damping_at_stiffness_opt": (("freq_y", "freq_z"), "N s m-1", "damping of the overall best (K, C)"),
+    "criterion_at_stiffness_opt": (("freq_y", "freq_z"), "m", "criterion of the overall best (K, C)"),
+    "damping_opt_spread": (("stiffness",), "1", "max / min of damping_opt over the input frequencies"),
+    "damping_best_constant": (("stiffness",), "N s m-1",
+                              "single damping minimising the mean criterion over all frequencies"),
+    "criterion_best_constant": (("freq_y", "freq_z", "stiffness"), "m", "criterion with damping_best_constant"),
+    "scheduling_gain": (("stiffness",), "1", "mean of criterion_best_constant / criterion_opt over the frequencies"),
+}
+
+
+def test_every_table_variable_carries_its_dims_units_and_long_name():
+    """The NetCDF contract (CF units, long_name), written out here: a changed unit or name fails."""
+    values = np.random.default_rng(5).uniform(0.1, 1.0, (2, 3, 2, 4))
+    ds = synthetic_grid(values)
+    table = criterion.reference_table(ds)
+    assert set(table.data_vars) == set(TABLE_METADATA)
+    for name, (dims, units, long_name) in TABLE_METADATA.items():
+        assert table[name].dims == dims, name
+        assert table[name].attrs == {"units": units, "long_name": long_name}, name
+    assert table.attrs == {"flat_tolerance": 0.05, "tie_rule": "smallest damping among equal minima",
+                           "n_failed_points": 0}
+    for coord in ("freq_y", "freq_z", "stiffness"):
+        xr.testing.assert_identical(table[coord], ds[coord])
+    assert "damping" not in table.coords
+    assert criterion.CRITERION_ATTRS == {"units": "m", "long_name": "camera criterion sqrt(sigma_y^2 + sigma_z^2) "
+                                                                     "over the window"}
+
+
+def test_table_with_nan_cells_is_nan_where_all_failed_and_finite_elsewhere():
+    values = np.random.default_rng(6).uniform(0.1, 1.0, (2, 2, 2, 3))
+    values[1, 1] = np.nan  # every K and C failed at this frequency pair
+    with np.errstate(all="ignore"):
+        table = criterion.reference_table(synthetic_grid(values))
+    for name in ("stiffness_opt", "damping_at_stiffness_opt", "criterion_at_stiffness_opt"):
+        assert np.isnan(table[name].values[1, 1]) and np.all(np.isfinite(table[name].values.ravel()[:3])), name
+    assert np.all(np.isfinite(table.scheduling_gain)) and np.all(np.isfinite(table.damping_best_constant))
