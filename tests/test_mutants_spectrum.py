@@ -271,3 +271,17 @@ def test_messages_are_whole():
         spectrum.causal_segment(np.r_[t[:5], t[5:] + 0.01], t, 0.95, 1.0)
     segment, _ = spectrum.causal_segment(t[:4], t[:4], 0.3, 0.4)  # four samples spanning the window: a segment
     np.testing.assert_array_equal(segment, t[:4])
+
+
+def test_band_edges_are_inclusive_for_a_bin_centred_peak():
+    """A sine exactly on bin 40 of a 2 s record (20 Hz, 0.5 Hz bins): a band starting or ending on that bin finds
+    it (the parabola through a symmetric peak has no shift); a band starting half a bin later does not."""
+    dt, n = 0.005, 400
+    t = np.arange(n) * dt
+    x = np.sin(2 * np.pi * 20.0 * t)
+    kw = dict(zero_padding=1)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, max_freq_hz=20.0, **kw) == pytest.approx(20.0,
+                                                                                                         rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.25, **kw) > 20.1  # the 20.5 Hz bin, pulled back
