@@ -57,7 +57,7 @@ def test_failed_write_leaves_no_partial_file(tmp_path):
     ds = small_dataset()
     ds.attrs["bad"] = {"a dict": "is not a valid netCDF attribute"}
     target = tmp_path / "c.nc"
-    with pytest.raises(TypeError, match="bad"):
+    with pytest.raises(TypeError, match="Invalid value for attr 'bad'"):
         io.write_netcdf(ds, target, {}, section="demo")
     assert list(tmp_path.iterdir()) == []
 

@@ -58,10 +58,7 @@ def test_comparison_layout(comparison, quick_config):
     assert np.all(np.isnan(ds.damping.sel(strategy="rigid")))
     assert np.all(np.isnan(ds.energy_dissipated.sel(strategy="rigid")))
     assert np.all(ds.energy_dissipated.sel(strategy=["passive", "anfis", "skyhook"]) > 0)
-    # the metrics are what their names say
-    early = ds.camera_displacement.sel(time=slice(0, quick_config["study"]["early_s"] + 1e-9))
-    np.testing.assert_allclose(ds.peak_early, np.abs(early).max("time").transpose(*ds.peak_early.dims))
-    np.testing.assert_allclose(ds.std_total, ds.camera_displacement.std("time").transpose(*ds.std_total.dims))
+    # the metrics' values: closed forms in tests/test_mutants_metrics.py (not recomputed here with the same expressions)
 
 
 def test_semi_active_damping_is_piecewise_constant_within_bounds(comparison, quick_config):
