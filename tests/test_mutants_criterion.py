@@ -85,12 +85,22 @@ def test_window_with_fewer_than_two_samples_is_refused():
 
 
 def synthetic_grid(values: np.ndarray) -> xr.Dataset:
+    """A grid dataset whose displacement criterion is `values` (f_y, f_z, K, C) in one window."""
     shape = values.shape
     spec = grid.GridSpec(freq_y=np.arange(1.0, shape[0] + 1), freq_z=np.arange(1.0, shape[1] + 1),
                          stiffness=np.array([10.0, 20.0, 50.0, 100.0][: shape[2]]),
                          damping=np.array([1.0, 2.0, 4.0, 8.0, 16.0][: shape[3]]),
-                         amplitude=1e-3, duration=1.0, window=(0.0, 1.0))
-    return xr.Dataset({"criterion": (grid.DIMS, values, criterion.CRITERION_ATTRS)}, coords=spec.coords())
+                         amplitude=1e-3, duration=1.0, windows={"transient": (0.0, 1.0)})
+    data = {criterion.variable("displacement"): (("window", *grid.DIMS), values[None],
+                                                 criterion.CRITERIA["displacement"])}
+    failed = np.isnan(values).astype(np.int8)
+    return xr.Dataset({**data, "failed": (grid.DIMS, failed, {"units": "1", "long_name": "f"})},
+                      coords={**spec.coords(), **spec.window_coords()})
+
+
+def table_of(ds: xr.Dataset, *args, **kwargs) -> xr.Dataset:
+    """The displacement, transient-window table of a synthetic grid (what the ANFIS learns by default)."""
+    return criterion.select_table(criterion.reference_table(ds, *args, **kwargs), "displacement", "transient")
 
 
 def test_overall_best_stiffness_and_its_damping_by_construction():
@@ -103,7 +113,7 @@ def test_overall_best_stiffness_and_its_damping_by_construction():
     for (i, j), (k, c, v) in planted.items():
         values[i, j, k, c] = v
         values[i, j, (k + 1) % 4, (c + 2) % 5] = 0.9  # another K's best C differs: the first-K answer is wrong
-    table = criterion.reference_table(synthetic_grid(values))
+    table = table_of(synthetic_grid(values))
     stiffness, damping = [10.0, 20.0, 50.0, 100.0], [1.0, 2.0, 4.0, 8.0, 16.0]
     for (i, j), (k, c, v) in planted.items():
         assert float(table.stiffness_opt[i, j]) == stiffness[k]
@@ -118,11 +128,11 @@ def test_flat_band_by_construction():
     """
     values = np.ones((1, 1, 1, 5))
     values[0, 0, 0] = [1.2, 1.04, 1.0, 1.05, 1.5]
-    table = criterion.reference_table(synthetic_grid(values), flat_tolerance=0.05)
+    table = table_of(synthetic_grid(values), flat_tolerance=0.05)
     assert float(table.damping_flat_min.squeeze()) == 2.0
     assert float(table.damping_flat_max.squeeze()) == 8.0
     assert "within 5%" in table.damping_flat_min.attrs["long_name"]
-    narrow = criterion.reference_table(synthetic_grid(values), flat_tolerance=0.03)
+    narrow = table_of(synthetic_grid(values), flat_tolerance=0.03)
     assert float(narrow.damping_flat_min.squeeze()) == float(narrow.damping_flat_max.squeeze()) == 4.0
 
 
@@ -130,7 +140,7 @@ def test_flat_band_by_construction():
 def test_flat_band_of_an_all_failed_cell_is_nan():
     values = np.ones((1, 1, 2, 5))
     values[0, 0, 1] = np.nan
-    table = criterion.reference_table(synthetic_grid(values))
+    table = table_of(synthetic_grid(values))
     assert np.isnan(table.damping_flat_min.values[0, 0, 1]) and np.isnan(table.damping_flat_max.values[0, 0, 1])
     assert table.damping_flat_min.values[0, 0, 0] == 1.0 and table.damping_flat_max.values[0, 0, 0] == 16.0
     assert np.isnan(table.damping_opt.values[0, 0, 1])
@@ -148,7 +158,7 @@ def test_scheduling_gain_is_exactly_seven_thirds_on_the_fixture():
     values[..., 0, 2] = 0.5
     values[0, :, 1, 0] = 0.2
     values[1:, :, 1, 3] = 0.2
-    table = criterion.reference_table(synthetic_grid(values))
+    table = table_of(synthetic_grid(values))
     assert float(table.scheduling_gain[1]) == pytest.approx(7 / 3, rel=1e-14)
     assert float(table.scheduling_gain[0]) == 1.0
     assert float(table.damping_best_constant[1]) == 8.0 and float(table.damping_best_constant[0]) == 4.0
@@ -164,11 +174,11 @@ def test_ties_take_the_smallest_damping_and_failures_are_counted():
     ds = synthetic_grid(values)
     ds["failed"] = (grid.DIMS, np.zeros(values.shape, np.int8), {"units": "1", "long_name": "failed"})
     ds["failed"][0, 0, 1, 2] = 1
-    table = criterion.reference_table(ds)
+    table = table_of(ds)
     assert table.damping_opt.values[0, 0].tolist() == [2.0, 1.0]
     assert float(table.stiffness_opt.squeeze()) == 10.0 and float(table.damping_at_stiffness_opt.squeeze()) == 2.0
     assert table.attrs["n_failed_points"] == 1 and table.attrs["tie_rule"] == "smallest damping among equal minima"
-    assert criterion.reference_table(synthetic_grid(values)).attrs["n_failed_points"] == 0
+    assert table_of(synthetic_grid(values)).attrs["n_failed_points"] == 0
 
 
 def test_optimal_passive_ties_take_the_smallest_damping():
@@ -187,16 +197,17 @@ def test_optimal_passive_ties_take_the_smallest_damping():
 
 TABLE_METADATA = {  # name: (dims, units, long_name) of every variable reference_table returns (flat_tolerance 0.05)
     "damping_opt": (("freq_y", "freq_z", "stiffness"), "N s m-1", "damping minimising the criterion at each stiffness"),
-    "criterion_opt": (("freq_y", "freq_z", "stiffness"), "m", "criterion at damping_opt"),
+    "criterion_opt": (("freq_y", "freq_z", "stiffness"), "m", "criterion at damping_opt (displacement)"),
     "damping_flat_min": (("freq_y", "freq_z", "stiffness"), "N s m-1", "smallest damping within 5% of criterion_opt"),
     "damping_flat_max": (("freq_y", "freq_z", "stiffness"), "N s m-1", "largest damping within 5% of criterion_opt"),
     "stiffness_opt": (("freq_y", "freq_z"), "N m-1", "stiffness of the overall best (K, C)"),
     "damping_at_stiffness_opt": (("freq_y", "freq_z"), "N s m-1", "damping of the overall best (K, C)"),
-    "criterion_at_stiffness_opt": (("freq_y", "freq_z"), "m", "criterion of the overall best (K, C)"),
+    "criterion_at_stiffness_opt": (("freq_y", "freq_z"), "m", "criterion of the overall best (K, C) (displacement)"),
     "damping_opt_spread": (("stiffness",), "1", "max / min of damping_opt over the input frequencies"),
     "damping_best_constant": (("stiffness",), "N s m-1",
                               "single damping minimising the mean criterion over all frequencies"),
-    "criterion_best_constant": (("freq_y", "freq_z", "stiffness"), "m", "criterion with damping_best_constant"),
+    "criterion_best_constant": (("freq_y", "freq_z", "stiffness"), "m",
+                                "criterion with damping_best_constant (displacement)"),
     "scheduling_gain": (("stiffness",), "1", "mean of criterion_best_constant / criterion_opt over the frequencies"),
 }
 
@@ -205,17 +216,17 @@ def test_every_table_variable_carries_its_dims_units_and_long_name():
     """The NetCDF contract (CF units, long_name), written out here: a changed unit or name fails."""
     values = np.random.default_rng(5).uniform(0.1, 1.0, (2, 3, 2, 4))
     ds = synthetic_grid(values)
-    table = criterion.reference_table(ds)
+    table = table_of(ds)
     assert set(table.data_vars) == set(TABLE_METADATA)
     for name, (dims, units, long_name) in TABLE_METADATA.items():
         assert table[name].dims == dims, name
         assert table[name].attrs == {"units": units, "long_name": long_name}, name
     assert table.attrs == {"flat_tolerance": 0.05, "tie_rule": "smallest damping among equal minima",
-                           "n_failed_points": 0}
+                           "n_failed_points": 0, "criterion": "displacement", "window": "transient"}
     for coord in ("freq_y", "freq_z", "stiffness"):
         xr.testing.assert_identical(table[coord], ds[coord])
     assert "damping" not in table.coords
-    assert criterion.CRITERION_ATTRS == {"units": "m", "long_name": "camera criterion sqrt(sigma_y^2 + sigma_z^2) "
+    assert criterion.CRITERION_ATTRS == {"units": "m", "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) "
                                                                      "over the window"}
 
 
@@ -223,7 +234,7 @@ def test_table_with_nan_cells_is_nan_where_all_failed_and_finite_elsewhere():
     values = np.random.default_rng(6).uniform(0.1, 1.0, (2, 2, 2, 3))
     values[1, 1] = np.nan  # every K and C failed at this frequency pair
     with np.errstate(all="ignore"):
-        table = criterion.reference_table(synthetic_grid(values))
+        table = table_of(synthetic_grid(values))
     for name in ("stiffness_opt", "damping_at_stiffness_opt", "criterion_at_stiffness_opt"):
         assert np.isnan(table[name].values[1, 1]) and np.all(np.isfinite(table[name].values.ravel()[:3])), name
     assert np.all(np.isfinite(table.scheduling_gain)) and np.all(np.isfinite(table.damping_best_constant))

@@ -119,11 +119,14 @@ def test_reference_table_argmins_equal_brute_force(values):
     ny, nz, nk, nc = values.shape
     spec = grid.GridSpec(freq_y=np.arange(1.0, ny + 1), freq_z=np.arange(1.0, nz + 1),
                          stiffness=np.arange(1.0, nk + 1) * 10, damping=np.arange(1.0, nc + 1) * 2,
-                         amplitude=1e-3, duration=1.0, window=(0.0, 1.0))
-    ds = xr.Dataset({"criterion": (grid.DIMS, values, criterion.CRITERION_ATTRS)}, coords=spec.coords())
+                         amplitude=1e-3, duration=1.0, windows={"transient": (0.0, 1.0)})
+    ds = xr.Dataset({criterion.variable("displacement"): (("window", *grid.DIMS), values[None],
+                                                          criterion.CRITERIA["displacement"]),
+                     "failed": (grid.DIMS, np.isnan(values).astype(np.int8), {"units": "1", "long_name": "f"})},
+                    coords={**spec.coords(), **spec.window_coords()})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices in the spread and gain reductions
-        table = criterion.reference_table(ds)
+        table = criterion.select_table(criterion.reference_table(ds), "displacement", "transient")
     c_opt, crit_opt, k_opt, c_at_k = _brute_force(values, spec.damping, spec.stiffness)
     np.testing.assert_array_equal(table.damping_opt.values, c_opt)
     np.testing.assert_array_equal(table.criterion_opt.values, crit_opt)
