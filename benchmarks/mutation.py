@@ -29,8 +29,20 @@ ROOT = Path(__file__).resolve().parents[1]
 MUTMUT = str(Path(sys.executable).with_name("mutmut"))
 EQUIVALENT = ROOT / "tests" / "mutation_equivalent.txt"
 REPORT = ROOT / "docs" / "mutation.md"
-STATUS = {0: "survived", 33: "no tests", 34: "skipped", 36: "timeout", -24: "timeout", 152: "timeout",
-          24: "timeout", 37: "type check", 1: "killed", 3: "killed", -11: "segfault", None: "not checked"}
+STATUS = {
+    0: "survived",
+    33: "no tests",
+    34: "skipped",
+    36: "timeout",
+    -24: "timeout",
+    152: "timeout",
+    24: "timeout",
+    37: "type check",
+    1: "killed",
+    3: "killed",
+    -11: "segfault",
+    None: "not checked",
+}
 
 
 def _env() -> dict:
@@ -74,8 +86,10 @@ def report(wall_s: float | None) -> str:
         else:
             counts["surviving"] += 1
             surviving.append((name, status))
-    lines = ["| module | generated | killed | equivalent | surviving | killed % of non-equivalent |",
-             "|---|---:|---:|---:|---:|---:|"]
+    lines = [
+        "| module | generated | killed | equivalent | surviving | killed % of non-equivalent |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
     total = Counter()
     for module in sorted(table):
         c = table[module]
@@ -111,8 +125,9 @@ def main() -> None:
     elif args.command == "retest":
         names = [n for n, code in results().items() if code in (0, 33) and n not in equivalent()]
         if names:
-            subprocess.run([MUTMUT, "run", "--max-children", str(args.max_children), *names], cwd=ROOT, env=_env(),
-                           check=False)
+            subprocess.run(
+                [MUTMUT, "run", "--max-children", str(args.max_children), *names], cwd=ROOT, env=_env(), check=False
+            )
         wall = time.monotonic() - start
     text = report(wall)
     if args.output:

@@ -35,8 +35,10 @@ def _table() -> xr.Dataset:
     fy = fz = np.linspace(3.0, 12.0, 4)
     k = np.array([10.0, 100.0, 1000.0])
     values = np.broadcast_to(0.5 * fy[:, None, None], (4, 4, 3)).copy()
-    return xr.Dataset({"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
-                      coords={"freq_y": fy, "freq_z": fz, "stiffness": k})
+    return xr.Dataset(
+        {"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
+        coords={"freq_y": fy, "freq_z": fz, "stiffness": k},
+    )
 
 
 def test_split_is_seeded_complete_and_has_both_sets():
@@ -52,23 +54,34 @@ def test_split_is_seeded_complete_and_has_both_sets():
 def test_scenario_names_and_synthetic_inputs(params):
     specs = scenarios.scenario_specs(load_config()["benchmark"])
     assert len([n for n in specs if n.startswith("heli_")]) == 2 * 3 * 2
-    assert specs["heli_m0.5_r1.1_tail_on"] == {"kind": "helicopter", "mass_factor": 0.5, "speed_ratio": 1.1,
-                                                "tail_rotor": True}
+    assert specs["heli_m0.5_r1.1_tail_on"] == {
+        "kind": "helicopter",
+        "mass_factor": 0.5,
+        "speed_ratio": 1.1,
+        "tail_rotor": True,
+    }
     amplitude, h = 1.3e-3, params.time_step
-    t, y, z = scenarios.synthetic_input({"kind": "random", "band_hz": [4.0, 10.0], "seed": 3}, duration=4.0,
-                                        amplitude=amplitude, time_step=h)
+    t, y, z = scenarios.synthetic_input(
+        {"kind": "random", "band_hz": [4.0, 10.0], "seed": 3}, duration=4.0, amplitude=amplitude, time_step=h
+    )
     assert np.std(y) == pytest.approx(amplitude / np.sqrt(2)) and np.std(z) == pytest.approx(amplitude / np.sqrt(2))
-    again = scenarios.synthetic_input({"kind": "random", "band_hz": [4.0, 10.0], "seed": 3}, duration=4.0,
-                                      amplitude=amplitude, time_step=h)
+    again = scenarios.synthetic_input(
+        {"kind": "random", "band_hz": [4.0, 10.0], "seed": 3}, duration=4.0, amplitude=amplitude, time_step=h
+    )
     np.testing.assert_array_equal(y, again[1])  # seeded
     power, freq = np.abs(np.fft.rfft(y * np.hanning(y.size))) ** 2, np.fft.rfftfreq(y.size, h)
     assert power[(freq < 2.0) | (freq > 20.0)].sum() < 0.01 * power.sum()  # band-limited
-    t, y, z = scenarios.synthetic_input({"kind": "sweep", "freq_hz": [3.0, 12.0]}, duration=4.0, amplitude=amplitude,
-                                        time_step=h)
+    t, y, z = scenarios.synthetic_input(
+        {"kind": "sweep", "freq_hz": [3.0, 12.0]}, duration=4.0, amplitude=amplitude, time_step=h
+    )
     assert y[0] == pytest.approx(0.0, abs=1e-12) and np.abs(y).max() == pytest.approx(amplitude, rel=1e-3)
     with pytest.raises(ValueError, match="benchmark.synthetic.x.kind: must be one of"):
-        scenarios.scenario_specs({"helicopter": {"imbalance_mass_factor": [], "rotor_speed_ratio": [],
-                                                 "tail_rotor": []}, "synthetic": [{"name": "x", "kind": "noise"}]})
+        scenarios.scenario_specs(
+            {
+                "helicopter": {"imbalance_mass_factor": [], "rotor_speed_ratio": [], "tail_rotor": []},
+                "synthetic": [{"name": "x", "kind": "noise"}],
+            }
+        )
 
 
 def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, options):
@@ -98,8 +111,10 @@ def test_quick_benchmark(inputs, params, options, tmp_path):
     split = scenarios.split(list(inputs), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
     tuned = benchmark.tune({n: inputs[n] for n in inputs if split[n] == "tuning"}, params, options)
     table = _table()
-    runs = [benchmark.run_scenario(inputs[n], tuned, params, options, model=semi_active.TableModel(table),
-                                   table=table) for n in inputs]
+    runs = [
+        benchmark.run_scenario(inputs[n], tuned, params, options, model=semi_active.TableModel(table), table=table)
+        for n in inputs
+    ]
     ds = benchmark.gather(runs, split, tuned)
     assert ds.J.dims == ("scenario", "controller", "stiffness", "criterion", "damper")
     np.testing.assert_allclose(ds.J.sel(controller="rigid"), 1.0)  # the reference of every criterion
@@ -119,8 +134,9 @@ def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
     from conftest import copy_workflow, snakemake
 
     workdir = copy_workflow(tmp_path / "wf")
-    result = snakemake(workdir, "-n", "reports/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml",
-                       timeout=300)
+    result = snakemake(
+        workdir, "-n", "reports/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml", timeout=300
+    )
     assert result.returncode == 0, result.stderr[-3000:]
     split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
     wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}

@@ -36,8 +36,10 @@ BAD = {
         {"platform": {"isolator": {"damping_min_n_s_m": 50.0, "damping_max_n_s_m": 5.0}}},
         "platform.isolator.damping_max_n_s_m: (5.0) must be >=",
     ),
-    "grid-window-longer-than-run": ({"reference_table": {"windows": {"transient": [0.0, 19.0]}}},
-                                    "reference_table.windows.transient"),
+    "grid-window-longer-than-run": (
+        {"reference_table": {"windows": {"transient": [0.0, 19.0]}}},
+        "reference_table.windows.transient",
+    ),
     "update-period-not-a-multiple": (
         {"platform": {"isolator": {"update_period_s": 0.5003}}},
         "platform.isolator.update_period_s: (0.5003 s) must be a whole multiple",

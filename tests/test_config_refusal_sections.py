@@ -19,17 +19,25 @@ def _path(*keys: str) -> str:
 # section: (override merged over quick.yaml, text the error must contain)
 BAD = {
     "helicopter.fuselage": ({"helicopter": {"fuselage": {"mass": -1.0}}}, _path("helicopter", "fuselage", "mass")),
-    "helicopter.main_rotor": ({"helicopter": {"main_rotor": {"n_blades": 1}}},
-                              _path("helicopter", "main_rotor", "n_blades")),
+    "helicopter.main_rotor": (
+        {"helicopter": {"main_rotor": {"n_blades": 1}}},
+        _path("helicopter", "main_rotor", "n_blades"),
+    ),
     "helicopter.solver": ({"helicopter": {"solver": {"step": -0.001}}}, _path("helicopter", "solver", "step")),
     "helicopter.imbalance": ({"helicopter": {"imbalance": {"blade": 9}}}, _path("helicopter", "imbalance", "blade")),
-    "platform.structure": ({"platform": {"structure": {"camera_mass_kg": 0.0}}},
-                           _path("platform", "structure", "camera_mass_kg")),
-    "platform.structure.modes": ({"platform": {"structure": {"natural_frequencies_hz": [6.7, 6.7, 4.5]}}},
-                                 "[6.7, 6.7, 4.5] has non-unique elements"),
+    "platform.structure": (
+        {"platform": {"structure": {"camera_mass_kg": 0.0}}},
+        _path("platform", "structure", "camera_mass_kg"),
+    ),
+    "platform.structure.modes": (
+        {"platform": {"structure": {"natural_frequencies_hz": [6.7, 6.7, 4.5]}}},
+        "[6.7, 6.7, 4.5] has non-unique elements",
+    ),
     "platform.solver": ({"platform": {"solver": {"time_step_s": 0.0}}}, _path("platform", "solver", "time_step_s")),
-    "platform.response": ({"platform": {"response": {"amplitude_m": -1.0}}},
-                          _path("platform", "response", "amplitude_m")),
+    "platform.response": (
+        {"platform": {"response": {"amplitude_m": -1.0}}},
+        _path("platform", "response", "amplitude_m"),
+    ),
     "platform.backend": ({"platform": {"backend": "analog"}}, "'analog' is not one of ['linear', 'exudyn']"),
     "reference_table": ({"reference_table": {"flat_tolerance": -0.1}}, _path("reference_table", "flat_tolerance")),
     "reference_table.n_chunks": ({"reference_table": {"n_chunks": 0}}, _path("reference_table", "n_chunks")),
@@ -37,8 +45,10 @@ BAD = {
     "anfis.selection": ({"anfis": {"selection": {"folds": 1}}}, _path("anfis", "selection", "folds")),
     "study": ({"study": {"duration_s": -2.0}}, _path("study", "duration_s")),
     "study.tracking": ({"study": {"tracking": {"method": "music"}}}, "'music' is not one of ['fft', 'esprit']"),
-    "study.cases": ({"study": {"cases": {"case1": {"amplitude_reading": "rms"}}}},
-                    "'rms' is not one of ['peak', 'dominant']"),
+    "study.cases": (
+        {"study": {"cases": {"case1": {"amplitude_reading": "rms"}}}},
+        "'rms' is not one of ['peak', 'dominant']",
+    ),
     "camera": ({"camera": {"exposure_s": -1.0}}, _path("camera", "exposure_s")),
     "camera.image": ({"camera": {"image_width_px": 0}}, _path("camera", "image_width_px")),
 }

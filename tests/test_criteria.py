@@ -23,9 +23,14 @@ F, T, D = CAM.focal_px, CAM.exposure_s, CAM.scene_distance_m
 def response(time, y=0.0, z=0.0, yaw=0.0, pitch=0.0) -> xr.Dataset:
     """A response dataset with the variables the criteria read (m, rad), broadcast over `time` (s)."""
     y, z, yaw, pitch = (np.broadcast_to(np.asarray(v, dtype=float), time.shape) for v in (y, z, yaw, pitch))
-    return xr.Dataset({"camera_displacement": (("axis", "time"), np.stack([y, z])),
-                       "camera_yaw": ("time", yaw), "camera_pitch": ("time", pitch)},
-                      coords={"time": time, "axis": ["y", "z"]})
+    return xr.Dataset(
+        {
+            "camera_displacement": (("axis", "time"), np.stack([y, z])),
+            "camera_yaw": ("time", yaw),
+            "camera_pitch": ("time", pitch),
+        },
+        coords={"time": time, "axis": ["y", "z"]},
+    )
 
 
 def test_windows_select_what_they_say():
@@ -37,7 +42,8 @@ def test_windows_select_what_they_say():
     yaw = np.where(t <= 1.0, 0.0, w * (t - 1.0))
     windows = {"early": (0.0, 1.0), "late": (1.0, 2.0)}
     (disp_early, disp_late), (los_early, los_late), (blur_early, blur_late) = criterion.response_criteria(
-        response(t, y=y, yaw=yaw), windows, CAM)
+        response(t, y=y, yaw=yaw), windows, CAM
+    )
     assert disp_early == pytest.approx(a1 / math.sqrt(2), rel=1e-3)
     assert disp_late == pytest.approx(a2 / math.sqrt(2), rel=1e-3)
     assert los_early == 0.0
@@ -106,8 +112,9 @@ def test_chosen_criterion_reaches_the_anfis():
         assert (record.attrs["criterion"], record.attrs["window"]) == (name, window)
         chosen = xr.Dataset({"criterion": grid[criterion.variable(name)].sel(window=window, drop=True)})
         X = np.column_stack([record[n].values for n in learning.INPUTS])
-        np.testing.assert_allclose(record.regret.values, learning.regret(chosen, X, record.damping_predicted.values),
-                                   rtol=1e-12)
+        np.testing.assert_allclose(
+            record.regret.values, learning.regret(chosen, X, record.damping_predicted.values), rtol=1e-12
+        )
         np.testing.assert_allclose(learning.regret(chosen, X, record.damping_reference.values), 1.0, rtol=1e-12)
 
 
@@ -117,7 +124,7 @@ def _planned(workdir, configfile: str) -> set[str]:
     plan = result.stdout + result.stderr
     if "Nothing to be done" in plan:
         return set()
-    table = plan[plan.index("job "):plan.index("total")]
+    table = plan[plan.index("job ") : plan.index("total")]
     return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
 
 
@@ -128,8 +135,12 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
     work = copy_workflow(tmp_path)
     assert snakemake(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
     result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
-    outputs = [path.strip() for line in result.stdout.splitlines() if line.strip().startswith("output:")
-               for path in line.split("output:", 1)[1].split(",")]
+    outputs = [
+        path.strip()
+        for line in result.stdout.splitlines()
+        if line.strip().startswith("output:")
+        for path in line.split("output:", 1)[1].split(",")
+    ]
     assert "reports/figures/reference_table_criteria.png" in outputs and "reports/figures/study_blur.png" in outputs
     for path in outputs:
         target = work / path
@@ -141,10 +152,14 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
     assert snakemake(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
     assert _planned(work, "config/quick.yaml") == set()
     quick = yaml.safe_load((work / "config" / "quick.yaml").read_text())
-    edits = {"criterion": ({"reference_table": {"criterion": "blur"}}, {"reference_table", "anfis", "study", "all"}),
-             "window": ({"reference_table": {"window": "steady"}}, {"reference_table", "anfis", "study", "all"}),
-             "camera": ({"camera": {"exposure_s": 2.0e-3}}, {"reference_table_chunk", "reference_table", "anfis",
-                                                            "study", "all"})}
+    edits = {
+        "criterion": ({"reference_table": {"criterion": "blur"}}, {"reference_table", "anfis", "study", "all"}),
+        "window": ({"reference_table": {"window": "steady"}}, {"reference_table", "anfis", "study", "all"}),
+        "camera": (
+            {"camera": {"exposure_s": 2.0e-3}},
+            {"reference_table_chunk", "reference_table", "anfis", "study", "all"},
+        ),
+    }
     for name, (edit, expected) in edits.items():
         edited = {**quick, **{k: {**quick.get(k, {}), **v} for k, v in edit.items()}}
         (work / "config" / f"edit_{name}.yaml").write_text(yaml.safe_dump(edited))
@@ -164,10 +179,14 @@ def test_figures_draw_every_criterion_window_and_strategy():
     titles = [ax.get_title() for ax in fig.axes]
     assert sum("gain" in t for t in titles) == 3 * 2 * 2 and any("blur, steady (learnt)" in t for t in titles)
     blur = rng.lognormal(0, 1, (2, 2, 3, 30))
-    ds = xr.Dataset({"frame_blur": (("case", "stiffness", "strategy", "frame"), blur),
-                     "sharp_fraction": (("case", "stiffness", "strategy"), (blur <= 1).mean(-1))},
-                    coords={"case": ["case1", "case2"], "stiffness": [10.0, 1000.0],
-                            "strategy": ["passive", "anfis", "skyhook"]}, attrs={"camera_sharp_threshold_px": 1.0})
+    ds = xr.Dataset(
+        {
+            "frame_blur": (("case", "stiffness", "strategy", "frame"), blur),
+            "sharp_fraction": (("case", "stiffness", "strategy"), (blur <= 1).mean(-1)),
+        },
+        coords={"case": ["case1", "case2"], "stiffness": [10.0, 1000.0], "strategy": ["passive", "anfis", "skyhook"]},
+        attrs={"camera_sharp_threshold_px": 1.0},
+    )
     fig = blur_distribution_figure(ds)
     assert len(fig.axes) == 4 and all(len(ax.get_xticklabels()) == 3 for ax in fig.axes)
     bars = sharp_fraction_figure(ds).axes[0].patches

@@ -42,14 +42,19 @@ def test_reference_table_figure_shows_the_table():
 
 def test_fuselage_vibration_figure_shows_the_runs_in_mm():
     t = np.arange(0, 8, 0.01)
-    disp = np.stack([np.stack([a * np.sin(2 * np.pi * f * t) for a, f in ((0, 1), (1e-3, 7), (2e-3, 8))])
-                     for _ in range(2)])
+    disp = np.stack(
+        [np.stack([a * np.sin(2 * np.pi * f * t) for a, f in ((0, 1), (1e-3, 7), (2e-3, 8))]) for _ in range(2)]
+    )
     disp[1] *= 0.1  # the balanced rotor
     omega = np.linspace(0, 200, 201)
-    ds = xr.Dataset({"displacement": (("rotor", "axis", "time"), disp),
-                     "amplitude_spectrum": (("rotor", "axis", "omega"), np.ones((2, 3, omega.size)) * 1e-4),
-                     "dominant_omega": (("rotor", "axis"), np.array([[0.0, 44.0, 50.3], [0.0, 44.0, 50.3]]))},
-                    coords={"rotor": ["imbalanced", "balanced"], "axis": ["x", "y", "z"], "time": t, "omega": omega})
+    ds = xr.Dataset(
+        {
+            "displacement": (("rotor", "axis", "time"), disp),
+            "amplitude_spectrum": (("rotor", "axis", "omega"), np.ones((2, 3, omega.size)) * 1e-4),
+            "dominant_omega": (("rotor", "axis"), np.array([[0.0, 44.0, 50.3], [0.0, 44.0, 50.3]])),
+        },
+        coords={"rotor": ["imbalanced", "balanced"], "axis": ["x", "y", "z"], "time": t, "omega": omega},
+    )
     fig = fuselage_vibration_figure(ds, window_s=5.0)
     try:
         z_ax, y_ax = fig.axes[0], fig.axes[2]

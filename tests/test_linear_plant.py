@@ -91,8 +91,15 @@ def test_linearise_leaves_the_exudyn_plant_unchanged():
 # ------------------------------------------------------------------- against Exudyn
 
 
-@pytest.mark.parametrize("stiffness, damping, freq_hz", [(10.0, 2.0, (7.0, 8.0)), (1000.0, 20.0, (7.0, 8.0)),
-                                                        (3000.0, 50.0, (4.0, 11.0)), (100.0, [2.0, 60.0], (7.0, 8.0))])
+@pytest.mark.parametrize(
+    "stiffness, damping, freq_hz",
+    [
+        (10.0, 2.0, (7.0, 8.0)),
+        (1000.0, 20.0, (7.0, 8.0)),
+        (3000.0, 50.0, (4.0, 11.0)),
+        (100.0, [2.0, 60.0], (7.0, 8.0)),
+    ],
+)
 def test_camera_response_matches_exudyn(isolated, stiffness, damping, freq_hz):
     """Within 0.5 % in the criterion, incl. a damping change at the 0.5 s update; the same variables."""
     sim, plant = isolated
@@ -169,6 +176,7 @@ def test_decision_function_sees_what_it_sees_in_exudyn(isolated):
         def decide(s) -> float:
             seen[name].append((s.t_now, s.time.size, s.base_velocity.copy(), s.mount_velocity.copy(), s.stroke.copy()))
             return 1e4 if s.t_now >= 0.5 else -1.0  # clipped to [0, 200]
+
         return FunctionLaw(decide, 0.25)
 
     ref = sim.run(time, y, z, stiffness=100.0, law=law("exudyn"))
@@ -178,7 +186,8 @@ def test_decision_function_sees_what_it_sees_in_exudyn(isolated):
     peak = 2 * math.pi * 8.0 * 1.3e-3
     stroke_scale = 1.3e-3
     for (t_e, n_e, base_e, mount_e, stroke_e), (t_l, n_l, base_l, mount_l, stroke_l) in zip(
-            seen["exudyn"], seen["linear"], strict=True):
+        seen["exudyn"], seen["linear"], strict=True
+    ):
         assert (t_e, n_e) == (t_l, n_l)
         assert np.abs(base_l - base_e).max() < 0.02 * peak and np.abs(mount_l - mount_e).max() < 0.02 * peak
         # before the switch to 200 N s/m the strokes agree to 2.6e-7 m (0.02 %); after it Exudyn's first-order switch
@@ -194,8 +203,7 @@ def test_switching_every_step_between_two_levels_costs_two_discretisations(monke
     monkeypatch.setattr(linear_plant, "discretise", lambda *a: calls.append(1) or real(*a))
     h = sim.params.time_step
     time, y, z = sine_input(7.0, 8.0, 1.3e-3, 0.2, h)
-    ds = plant.run(time, y, z, stiffness=100.0,
-                   law=FunctionLaw(lambda s: 5.0 if round(s.t_now / h) % 2 else 50.0, h))
+    ds = plant.run(time, y, z, stiffness=100.0, law=FunctionLaw(lambda s: 5.0 if round(s.t_now / h) % 2 else 50.0, h))
     assert len(calls) == 2
     assert set(np.unique(ds.damping.values)) == {5.0, 50.0}
 
@@ -209,11 +217,14 @@ def _independent_criteria(ds, window, camera) -> dict:
     t = ds.time.values
     keep = (t >= window[0] - 1e-9) & (t <= window[1] + 1e-9)
     disp = ds.camera_displacement.values[:, keep]
-    metrics = iq.image_metrics(t, ds.camera_displacement.values, ds.camera_yaw.values, ds.camera_pitch.values,
-                               camera, *window)
-    return {"displacement": math.sqrt(np.var(disp[0]) + np.var(disp[1])),
-            "line_of_sight": math.hypot(np.std(ds.camera_yaw.values[keep]), np.std(ds.camera_pitch.values[keep])),
-            "blur": metrics["blur_p95"][0]}
+    metrics = iq.image_metrics(
+        t, ds.camera_displacement.values, ds.camera_yaw.values, ds.camera_pitch.values, camera, *window
+    )
+    return {
+        "displacement": math.sqrt(np.var(disp[0]) + np.var(disp[1])),
+        "line_of_sight": math.hypot(np.std(ds.camera_yaw.values[keep]), np.std(ds.camera_pitch.values[keep])),
+        "blur": metrics["blur_p95"][0],
+    }
 
 
 @pytest.mark.parametrize("stiffness, damping", [(200.0, 3.0), (3000.0, 150.0)])
@@ -248,8 +259,9 @@ def test_pair_criteria_is_the_std_of_each_sum():
     a = common + 0.3 * rng.normal(size=(200, 2, 3))
     b = -0.8 * common + 0.3 * rng.normal(size=(200, 2, 4))
     a, b = a - a.mean(axis=0), b - b.mean(axis=0)
-    expected = np.array([[np.sqrt(np.sum(np.std(a[:, :, i] + b[:, :, j], axis=0) ** 2)) for j in range(4)]
-                         for i in range(3)])
+    expected = np.array(
+        [[np.sqrt(np.sum(np.std(a[:, :, i] + b[:, :, j], axis=0) ** 2)) for j in range(4)] for i in range(3)]
+    )
     np.testing.assert_allclose(pair_criteria(a, b), expected, rtol=1e-12)
 
 
@@ -264,8 +276,9 @@ def test_lifted_propagation_equals_step_by_step(steps):
     expected = [z0]
     for k in range(steps):  # z_{k+1} = phi z_k + gamma_u u_k + gamma_v v_k
         expected.append(step.phi @ expected[-1] + step.gamma_u @ u[k] + step.gamma_v @ v[k])
-    np.testing.assert_allclose(propagate(step, z0, u, v, lift(step.phi, 32)), np.array(expected), rtol=1e-10,
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        propagate(step, z0, u, v, lift(step.phi, 32)), np.array(expected), rtol=1e-10, atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("fixture", ["isolated", "rigid"])

@@ -46,8 +46,9 @@ def test_more_unknowns_than_rows_takes_the_minimum_norm_solution_ignoring_ridge(
 @pytest.mark.parametrize("gap", [1e-6, 1e-12])
 def test_an_ill_conditioned_problem_takes_the_truncated_svd_solution(gap):
     """Two rules firing alike up to `gap`: cond(A) ~ 1 / gap. At 1e-6 the Cholesky of A^T A (cond 1e12) succeeds
-    but loses 6 digits, so the SVD path is taken (its answer: QR least squares to cond eps = 1e-10 of the largest); at 1e-12 the singular
-    values below 1e-10 of the largest are dropped (pinv(A, rtol=1e-10) y), not inverted."""
+    but loses 6 digits, so the SVD path is taken (its answer: QR least squares to cond eps = 1e-10 of the
+    largest); at 1e-12 the singular values below 1e-10 of the largest are dropped (pinv(A, rtol=1e-10) y),
+    not inverted."""
     w, X1T, A, y = _problem(40, 2)
     w[1] = w[0] + gap * np.random.default_rng(1).uniform(0, 1, 40)
     A = (w[:, None, :] * X1T[None, :, :]).reshape(-1, 40).T
@@ -60,14 +61,17 @@ def test_an_ill_conditioned_problem_takes_the_truncated_svd_solution(gap):
         np.testing.assert_allclose(got, expected, rtol=1e-6, atol=1e-9)
 
 
-@pytest.mark.parametrize(("errors", "expected_step", "expected_change"), [
-    ([1.0, 0.9, 0.8, 0.7, 0.6], 1.1, 4),  # four decreases: x 1.1
-    ([1.0, 1.2, 1.1, 1.3, 1.2], 0.9, 4),  # up, down, up, down: x 0.9
-    ([1.0, 1.0, 0.5, 0.8, 0.4], 1.0, 0),  # a tie is not an increase: no change
-    ([1.0, 0.9, 0.8, 0.85, 0.7], 1.0, 0),  # only the second half alternates
-    ([1.0, 1.1, 1.2, 1.3, 1.4], 1.0, 0),  # four increases
-    ([1.0, 1.2, 1.1, 1.3], 1.0, 0),  # fewer than five errors since the last change
-])
+@pytest.mark.parametrize(
+    ("errors", "expected_step", "expected_change"),
+    [
+        ([1.0, 0.9, 0.8, 0.7, 0.6], 1.1, 4),  # four decreases: x 1.1
+        ([1.0, 1.2, 1.1, 1.3, 1.2], 0.9, 4),  # up, down, up, down: x 0.9
+        ([1.0, 1.0, 0.5, 0.8, 0.4], 1.0, 0),  # a tie is not an increase: no change
+        ([1.0, 0.9, 0.8, 0.85, 0.7], 1.0, 0),  # only the second half alternates
+        ([1.0, 1.1, 1.2, 1.3, 1.4], 1.0, 0),  # four increases
+        ([1.0, 1.2, 1.1, 1.3], 1.0, 0),  # fewer than five errors since the last change
+    ],
+)
 def test_step_size_rule_cases(errors, expected_step, expected_change):
     step, change = anfis_math.update_step_size(errors, 1.0, 0)
     assert step == pytest.approx(expected_step, rel=1e-15) and change == expected_change

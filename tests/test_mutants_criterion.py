@@ -87,15 +87,23 @@ def test_window_with_fewer_than_two_samples_is_refused():
 def synthetic_grid(values: np.ndarray) -> xr.Dataset:
     """A grid dataset whose displacement criterion is `values` (f_y, f_z, K, C) in one window."""
     shape = values.shape
-    spec = grid.GridSpec(freq_y=np.arange(1.0, shape[0] + 1), freq_z=np.arange(1.0, shape[1] + 1),
-                         stiffness=np.array([10.0, 20.0, 50.0, 100.0][: shape[2]]),
-                         damping=np.array([1.0, 2.0, 4.0, 8.0, 16.0][: shape[3]]),
-                         amplitude=1e-3, duration=1.0, windows={"transient": (0.0, 1.0)})
-    data = {criterion.variable("displacement"): (("window", *grid.DIMS), values[None],
-                                                 criterion.CRITERIA["displacement"])}
+    spec = grid.GridSpec(
+        freq_y=np.arange(1.0, shape[0] + 1),
+        freq_z=np.arange(1.0, shape[1] + 1),
+        stiffness=np.array([10.0, 20.0, 50.0, 100.0][: shape[2]]),
+        damping=np.array([1.0, 2.0, 4.0, 8.0, 16.0][: shape[3]]),
+        amplitude=1e-3,
+        duration=1.0,
+        windows={"transient": (0.0, 1.0)},
+    )
+    data = {
+        criterion.variable("displacement"): (("window", *grid.DIMS), values[None], criterion.CRITERIA["displacement"])
+    }
     failed = np.isnan(values).astype(np.int8)
-    return xr.Dataset({**data, "failed": (grid.DIMS, failed, {"units": "1", "long_name": "f"})},
-                      coords={**spec.coords(), **spec.window_coords()})
+    return xr.Dataset(
+        {**data, "failed": (grid.DIMS, failed, {"units": "1", "long_name": "f"})},
+        coords={**spec.coords(), **spec.window_coords()},
+    )
 
 
 def table_of(ds: xr.Dataset, *args, **kwargs) -> xr.Dataset:
@@ -162,8 +170,9 @@ def test_scheduling_gain_is_exactly_seven_thirds_on_the_fixture():
     assert float(table.scheduling_gain[1]) == pytest.approx(7 / 3, rel=1e-14)
     assert float(table.scheduling_gain[0]) == 1.0
     assert float(table.damping_best_constant[1]) == 8.0 and float(table.damping_best_constant[0]) == 4.0
-    np.testing.assert_array_equal(table.criterion_best_constant.values[:, :, 1], np.where(np.arange(3)[:, None] == 0,
-                                                                                          1.0, 0.2) * np.ones((3, 3)))
+    np.testing.assert_array_equal(
+        table.criterion_best_constant.values[:, :, 1], np.where(np.arange(3)[:, None] == 0, 1.0, 0.2) * np.ones((3, 3))
+    )
     assert float(table.damping_opt_spread[1]) == 8.0 and float(table.damping_opt_spread[0]) == 1.0
 
 
@@ -204,10 +213,16 @@ TABLE_METADATA = {  # name: (dims, units, long_name) of every variable reference
     "damping_at_stiffness_opt": (("freq_y", "freq_z"), "N s m-1", "damping of the overall best (K, C)"),
     "criterion_at_stiffness_opt": (("freq_y", "freq_z"), "m", "criterion of the overall best (K, C) (displacement)"),
     "damping_opt_spread": (("stiffness",), "1", "max / min of damping_opt over the input frequencies"),
-    "damping_best_constant": (("stiffness",), "N s m-1",
-                              "single damping minimising the mean criterion over all frequencies"),
-    "criterion_best_constant": (("freq_y", "freq_z", "stiffness"), "m",
-                                "criterion with damping_best_constant (displacement)"),
+    "damping_best_constant": (
+        ("stiffness",),
+        "N s m-1",
+        "single damping minimising the mean criterion over all frequencies",
+    ),
+    "criterion_best_constant": (
+        ("freq_y", "freq_z", "stiffness"),
+        "m",
+        "criterion with damping_best_constant (displacement)",
+    ),
     "scheduling_gain": (("stiffness",), "1", "mean of criterion_best_constant / criterion_opt over the frequencies"),
 }
 
@@ -221,13 +236,20 @@ def test_every_table_variable_carries_its_dims_units_and_long_name():
     for name, (dims, units, long_name) in TABLE_METADATA.items():
         assert table[name].dims == dims, name
         assert table[name].attrs == {"units": units, "long_name": long_name}, name
-    assert table.attrs == {"flat_tolerance": 0.05, "tie_rule": "smallest damping among equal minima",
-                           "n_failed_points": 0, "criterion": "displacement", "window": "transient"}
+    assert table.attrs == {
+        "flat_tolerance": 0.05,
+        "tie_rule": "smallest damping among equal minima",
+        "n_failed_points": 0,
+        "criterion": "displacement",
+        "window": "transient",
+    }
     for coord in ("freq_y", "freq_z", "stiffness"):
         xr.testing.assert_identical(table[coord], ds[coord])
     assert "damping" not in table.coords
-    assert criterion.CRITERION_ATTRS == {"units": "m", "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) "
-                                                                     "over the window"}
+    assert criterion.CRITERION_ATTRS == {
+        "units": "m",
+        "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) over the window",
+    }
 
 
 def test_table_with_nan_cells_is_nan_where_all_failed_and_finite_elsewhere():

@@ -70,8 +70,11 @@ def test_design_places_the_modes_exactly_with_the_displacement_mode_highest(com_
 
 
 def test_too_strong_a_coupling_is_refused_naming_the_key():
-    with pytest.raises(ValueError, match=r"platform.structure.camera_com_x_m: the displacement-pitch coupling 0\.\d+ "
-                                         r"is too strong to place the modes at \(6.7, 5.7, 4.5\) Hz"):
+    with pytest.raises(
+        ValueError,
+        match=r"platform.structure.camera_com_x_m: the displacement-pitch coupling 0\.\d+ "
+        r"is too strong to place the modes at \(6.7, 5.7, 4.5\) Hz",
+    ):
         design_stiffness(params(camera_com_x_m=0.2).structure)
 
 

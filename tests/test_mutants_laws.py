@@ -106,8 +106,12 @@ def test_image_metrics_honour_the_window():
 def test_a_non_finite_response_series_is_refused_naming_it(series):
     time, disp, yaw, pitch = _ramp()
     disp, yaw, pitch = disp.copy(), yaw.copy(), pitch.copy()
-    target = {"camera_displacement y": disp[0], "camera_displacement z": disp[1], "camera_yaw": yaw,
-              "camera_pitch": pitch}[series]
+    target = {
+        "camera_displacement y": disp[0],
+        "camera_displacement z": disp[1],
+        "camera_yaw": yaw,
+        "camera_pitch": pitch,
+    }[series]
     target[5] = np.nan
     with pytest.raises(ValueError, match=rf"^{series} holds non-finite values$"):
         iq.frame_metrics(time, disp, yaw, pitch, CAM)

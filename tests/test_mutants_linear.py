@@ -40,8 +40,10 @@ def test_free_response_rows_of_one_sample_and_of_a_block_boundary():
 
 @pytest.fixture(scope="module")
 def plants():
-    return (LinearPlant(ExudynPlant(CONFIG, mount="isolated").model),
-            LinearPlant(ExudynPlant(CONFIG, mount="rigid").model))
+    return (
+        LinearPlant(ExudynPlant(CONFIG, mount="isolated").model),
+        LinearPlant(ExudynPlant(CONFIG, mount="rigid").model),
+    )
 
 
 def test_response_rows_are_the_input_and_the_stroke_rate(plants):
@@ -60,8 +62,9 @@ def test_response_rows_are_the_input_and_the_stroke_rate(plants):
 
 def test_the_isolator_stiffness_acts_only_on_the_isolated_mount(plants):
     isolated, rigid = plants
-    np.testing.assert_allclose(rigid.model.undamped_frequencies(500.0), rigid.model.undamped_frequencies(0.0),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        rigid.model.undamped_frequencies(500.0), rigid.model.undamped_frequencies(0.0), rtol=1e-12
+    )
     assert not np.allclose(isolated.model.undamped_frequencies(500.0), isolated.model.undamped_frequencies(10.0))
     time, y, z = sine_input(5.0, 6.0, 1e-3, 0.4, 0.002)
     a = rigid.run(time, y, z, stiffness=10.0, law=1.0)

@@ -24,11 +24,14 @@ def response(t, camera_y, camera_z, *, damping=None, stroke_rate_y=None, stroke_
     zeros = np.zeros_like(t)
     values = {
         "camera_displacement": np.stack([camera_y, camera_z]),
-        "camera_yaw": zeros, "camera_pitch": zeros,
+        "camera_yaw": zeros,
+        "camera_pitch": zeros,
         "damping": zeros if damping is None else damping,
-        "mount_displacement": np.stack([zeros, zeros]), "base_displacement": np.stack([zeros, zeros]),
-        "isolator_velocity": np.stack([zeros if stroke_rate_y is None else stroke_rate_y,
-                                       zeros if stroke_rate_z is None else stroke_rate_z]),
+        "mount_displacement": np.stack([zeros, zeros]),
+        "base_displacement": np.stack([zeros, zeros]),
+        "isolator_velocity": np.stack(
+            [zeros if stroke_rate_y is None else stroke_rate_y, zeros if stroke_rate_z is None else stroke_rate_z]
+        ),
     }
     return response_dataset(t, values, {})
 

@@ -146,9 +146,11 @@ def test_esprit_resolves_two_close_lines_with_their_amplitudes():
 
 def test_esprit_dominant_band_edges_are_inclusive_and_constant_segments_are_nan():
     assert tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=3, max_freq_hz=12) == pytest.approx(
-        5.0, rel=1e-9)
+        5.0, rel=1e-9
+    )
     assert tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=5.3, max_freq_hz=12) == pytest.approx(
-        5.6, rel=1e-9)
+        5.6, rel=1e-9
+    )
     f_low = tracking.esprit_lines(TWO_LINES, DT, 2)[0][0]
     assert tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=f_low, max_freq_hz=f_low) == f_low
     assert np.isnan(tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=7, max_freq_hz=12))
@@ -163,20 +165,32 @@ def test_esprit_needs_enough_samples_for_its_model_order():
     """Hankel rows N // 2 must reach 2 p + 2 exponentials + 2: p = 2 needs 8 rows, i.e. N = 16 samples."""
     x = TWO_LINES[:16]
     tracking.esprit_lines(x, DT, 2)
-    with pytest.raises(ValueError, match=r"^study\.tracking\.model_order: 2 sinusoids need more than 15 samples in "
-                                         r"the window$"):
+    with pytest.raises(
+        ValueError,
+        match=r"^study\.tracking\.model_order: 2 sinusoids need more than 15 samples in "
+        r"the window$",
+    ):
         tracking.esprit_lines(x[:15], DT, 2)
 
 
 def test_frequency_causal_fft_is_spectrum_with_the_options_band():
-    options = tracking.TrackerOptions(method="fft", model_order=2, window=1.0, min_freq_hz=3.0, max_freq_hz=5.3,
-                                      min_cycles=1.5, zero_padding=8, initial_freq_hz=7.0)
+    options = tracking.TrackerOptions(
+        method="fft",
+        model_order=2,
+        window=1.0,
+        min_freq_hz=3.0,
+        max_freq_hz=5.3,
+        min_cycles=1.5,
+        zero_padding=8,
+        initial_freq_hz=7.0,
+    )
     t = np.arange(1001) * DT
     x = np.sin(2 * np.pi * 4.0 * t) + 2 * np.sin(2 * np.pi * 9.0 * t)
     got = tracking.frequency_causal(t, x, 2.0, options)
     assert 3.5 < got < 5.3  # the stronger 9 Hz line is outside the band (it biases the 4 Hz fit by 4 %)
-    assert got == spectrum.dominant_frequency_causal(t, x, 2.0, 1.0, min_freq_hz=3.0, max_freq_hz=5.3,
-                                                     zero_padding=8, min_cycles=1.5)
+    assert got == spectrum.dominant_frequency_causal(
+        t, x, 2.0, 1.0, min_freq_hz=3.0, max_freq_hz=5.3, zero_padding=8, min_cycles=1.5
+    )
     esprit = dataclasses.replace(options, method="esprit", max_freq_hz=12.0)
     assert np.isnan(tracking.frequency_causal(t, x, 0.3, esprit))  # 0.3 s < 1.5 cycles of 3 Hz
     times, freq = tracking.track(t, x, update_period=1.0, options=esprit)
@@ -184,24 +198,38 @@ def test_frequency_causal_fft_is_spectrum_with_the_options_band():
     np.testing.assert_allclose(freq, 9.0, rtol=1e-9)
 
 
-VALID = dict(method="esprit", model_order=1, window=1.0, min_freq_hz=0.0, max_freq_hz=12.0, min_cycles=0.5,
-             zero_padding=1, initial_freq_hz=0.5)
+VALID = dict(
+    method="esprit",
+    model_order=1,
+    window=1.0,
+    min_freq_hz=0.0,
+    max_freq_hz=12.0,
+    min_cycles=0.5,
+    zero_padding=1,
+    initial_freq_hz=0.5,
+)
 
 
 def test_the_smallest_valid_options_pass():
     tracking.TrackerOptions(**VALID).validate()
 
 
-@pytest.mark.parametrize(("change", "message"), [
-    ({"method": "music"}, r"study\.tracking\.method: must be one of \('fft', 'esprit'\), got 'music'"),
-    ({"model_order": 0}, r"study\.tracking\.model_order: must be an integer >= 1, got 0"),
-    ({"zero_padding": 0}, r"study\.tracking\.zero_padding: must be an integer >= 1, got 0"),
-    ({"window": 0.0}, r"study\.tracking\.window_s: must be positive, got 0\.0"),
-    ({"min_cycles": 0.0}, r"study\.tracking\.min_cycles: must be positive, got 0\.0"),
-    ({"min_freq_hz": 5.0, "max_freq_hz": 5.0}, r"study\.tracking\.max_freq_hz: the band \[5\.0, 5\.0\] Hz is empty"),
-    ({"min_freq_hz": -1.0}, r"study\.tracking\.max_freq_hz: the band \[-1\.0, 12\.0\] Hz is empty"),
-    ({"initial_freq_hz": 0.0}, r"study\.tracking\.initial_freq_hz: must be positive, got 0\.0"),
-])
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"method": "music"}, r"study\.tracking\.method: must be one of \('fft', 'esprit'\), got 'music'"),
+        ({"model_order": 0}, r"study\.tracking\.model_order: must be an integer >= 1, got 0"),
+        ({"zero_padding": 0}, r"study\.tracking\.zero_padding: must be an integer >= 1, got 0"),
+        ({"window": 0.0}, r"study\.tracking\.window_s: must be positive, got 0\.0"),
+        ({"min_cycles": 0.0}, r"study\.tracking\.min_cycles: must be positive, got 0\.0"),
+        (
+            {"min_freq_hz": 5.0, "max_freq_hz": 5.0},
+            r"study\.tracking\.max_freq_hz: the band \[5\.0, 5\.0\] Hz is empty",
+        ),
+        ({"min_freq_hz": -1.0}, r"study\.tracking\.max_freq_hz: the band \[-1\.0, 12\.0\] Hz is empty"),
+        ({"initial_freq_hz": 0.0}, r"study\.tracking\.initial_freq_hz: must be positive, got 0\.0"),
+    ],
+)
 def test_each_bad_option_is_refused_naming_its_key(change, message):
     with pytest.raises(ValueError, match=rf"^{message}$"):
         tracking.TrackerOptions(**{**VALID, **change}).validate()
@@ -215,11 +243,14 @@ def _two_tone(n=1500, dt=0.002):
     return t, np.sin(2 * np.pi * 4.3 * t + 0.2) + 0.6 * np.sin(2 * np.pi * 9.1 * t) + 0.4 * t
 
 
-@pytest.mark.parametrize("options", [
-    {},
-    dict(min_freq_hz=6.0, max_freq_hz=12.0, zero_padding=4, min_cycles=3.0, detrend="constant", refine=False),
-    dict(min_freq_hz=2.0, max_freq_hz=5.0, zero_padding=2, min_cycles=1.0, detrend="linear", refine=True),
-])
+@pytest.mark.parametrize(
+    "options",
+    [
+        {},
+        dict(min_freq_hz=6.0, max_freq_hz=12.0, zero_padding=4, min_cycles=3.0, detrend="constant", refine=False),
+        dict(min_freq_hz=2.0, max_freq_hz=5.0, zero_padding=2, min_cycles=1.0, detrend="linear", refine=True),
+    ],
+)
 def test_track_dominant_is_the_causal_estimate_at_each_update(options):
     """As documented: freq_hz[k] = dominant_frequency_causal(time, signal, t_k, window, **options), defaults
     min_freq_hz 0, max_freq_hz inf, zero_padding 8, min_cycles 2, detrend "linear", refine True."""
@@ -231,17 +262,22 @@ def test_track_dominant_is_the_causal_estimate_at_each_update(options):
     np.testing.assert_array_equal(freq, expected)
 
 
-@pytest.mark.parametrize("options", [
-    dict(min_freq_hz=6.0, max_freq_hz=12.0, zero_padding=4, min_cycles=3.0, detrend="constant"),
-    dict(min_freq_hz=2.0, max_freq_hz=5.0, zero_padding=2, min_cycles=1.0, detrend="linear"),
-])
+@pytest.mark.parametrize(
+    "options",
+    [
+        dict(min_freq_hz=6.0, max_freq_hz=12.0, zero_padding=4, min_cycles=3.0, detrend="constant"),
+        dict(min_freq_hz=2.0, max_freq_hz=5.0, zero_padding=2, min_cycles=1.0, detrend="linear"),
+    ],
+)
 def test_dominant_frequency_causal_is_segment_then_peak_then_sine_fit(options):
     t, x = _two_tone()
-    segment, dt = spectrum.causal_segment(t, x, 2.5, 1.0, min_freq_hz=options["min_freq_hz"],
-                                          min_cycles=options["min_cycles"])
+    segment, dt = spectrum.causal_segment(
+        t, x, 2.5, 1.0, min_freq_hz=options["min_freq_hz"], min_cycles=options["min_cycles"]
+    )
     band = dict(min_freq_hz=options["min_freq_hz"], max_freq_hz=options["max_freq_hz"])
-    peak = spectrum.dominant_frequency(segment, dt, zero_padding=options["zero_padding"], detrend=options["detrend"],
-                                       **band)
+    peak = spectrum.dominant_frequency(
+        segment, dt, zero_padding=options["zero_padding"], detrend=options["detrend"], **band
+    )
     fitted = spectrum.refine_by_sine_fit(segment, dt, peak, detrend=options["detrend"], **band)
     assert spectrum.dominant_frequency_causal(t, x, 2.5, 1.0, **options, refine=False) == peak
     assert spectrum.dominant_frequency_causal(t, x, 2.5, 1.0, **options) == fitted
@@ -282,6 +318,5 @@ def test_band_edges_are_inclusive_for_a_bin_centred_peak():
     kw = dict(zero_padding=1)
     assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
     assert spectrum.dominant_frequency(x, dt, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
-    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, max_freq_hz=20.0, **kw) == pytest.approx(20.0,
-                                                                                                         rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
     assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.25, **kw) > 20.1  # the 20.5 Hz bin, pulled back

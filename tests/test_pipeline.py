@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-
 from conftest import ROOT, copy_workflow, snakemake
+
 from uavdamp import io
 
 
@@ -90,8 +90,12 @@ def test_every_netcdf_passes_cf_checker(quick_run, tmp_path):
     assert files
     for path in files:
         report = tmp_path / (path.stem + ".json")
-        subprocess.run([cchecker, "--test", "cf:1.11", "--format", "json", "--output", str(report), str(path)],
-                       capture_output=True, text=True, timeout=300)
+        subprocess.run(
+            [cchecker, "--test", "cf:1.11", "--format", "json", "--output", str(report), str(path)],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
         result = json.loads(report.read_text())["cf:1.11"]
         errors = [check for check in result["high_priorities"] if check["value"][0] < check["value"][1]]
         assert result["high_priorities"] and errors == [], f"{path.name}: {errors}"
@@ -103,8 +107,9 @@ def test_config_edit_reruns_only_affected_rules(quick_run, tmp_path):
     config["helicopter"]["spectrum"] = {"min_omega_rad_s": 25.0}
     edited = quick_run / "config" / "edited.yaml"
     edited.write_text(yaml.safe_dump(config))
-    result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", "config/edited.yaml",
-                       timeout=300)
+    result = snakemake(
+        quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", "config/edited.yaml", timeout=300
+    )
     assert result.returncode == 0, result.stderr
     plan = result.stdout + result.stderr
     assert "helicopter_vibration" in plan

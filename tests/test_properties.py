@@ -27,8 +27,13 @@ finite = st.floats(min_value=-1e9, max_value=1e9, allow_nan=False, allow_infinit
 
 
 @settings(max_examples=60, deadline=None)
-@given(offset_y=st.floats(-1.0, 1.0), offset_z=st.floats(-1.0, 1.0), seed=st.integers(0, 2**32 - 1),
-       start=st.integers(0, 50), length=st.integers(2, 100))
+@given(
+    offset_y=st.floats(-1.0, 1.0),
+    offset_z=st.floats(-1.0, 1.0),
+    seed=st.integers(0, 2**32 - 1),
+    start=st.integers(0, 50),
+    length=st.integers(2, 100),
+)
 def test_criterion_is_invariant_to_a_constant_offset(offset_y, offset_z, seed, start, length):
     rng = np.random.default_rng(seed)
     t = np.arange(200) * 0.01
@@ -54,8 +59,13 @@ def test_clipped_demand_never_leaves_the_bounds(demand, lo, width, t_now):
 
 
 @settings(max_examples=100, deadline=None)
-@given(values=st.lists(finite, min_size=1, max_size=6), v_abs=st.tuples(finite, finite),
-       v_rel=st.tuples(finite, finite), lo=st.floats(0, 100), width=st.floats(0, 100))
+@given(
+    values=st.lists(finite, min_size=1, max_size=6),
+    v_abs=st.tuples(finite, finite),
+    v_rel=st.tuples(finite, finite),
+    lo=st.floats(0, 100),
+    width=st.floats(0, 100),
+)
 def test_every_law_clipped_stays_within_the_bounds(values, v_abs, v_rel, lo, width):
     bounds = contract.DamperBounds(lo, lo + width)
     obs = contract.Observation(0.0, np.zeros(1), np.zeros(1), np.zeros(1), np.asarray(v_abs), np.zeros(2), np.zeros(2))
@@ -113,17 +123,35 @@ def _brute_force(values, damping, stiffness):
 
 
 @settings(max_examples=150, deadline=None)
-@given(values=hnp.arrays(float, hnp.array_shapes(min_dims=4, max_dims=4, min_side=1, max_side=3),
-                         elements=st.sampled_from([0.1, 0.2, 0.3, 0.5, 1.0, np.nan])))
+@given(
+    values=hnp.arrays(
+        float,
+        hnp.array_shapes(min_dims=4, max_dims=4, min_side=1, max_side=3),
+        elements=st.sampled_from([0.1, 0.2, 0.3, 0.5, 1.0, np.nan]),
+    )
+)
 def test_reference_table_argmins_equal_brute_force(values):
     ny, nz, nk, nc = values.shape
-    spec = grid.GridSpec(freq_y=np.arange(1.0, ny + 1), freq_z=np.arange(1.0, nz + 1),
-                         stiffness=np.arange(1.0, nk + 1) * 10, damping=np.arange(1.0, nc + 1) * 2,
-                         amplitude=1e-3, duration=1.0, windows={"transient": (0.0, 1.0)})
-    ds = xr.Dataset({criterion.variable("displacement"): (("window", *grid.DIMS), values[None],
-                                                          criterion.CRITERIA["displacement"]),
-                     "failed": (grid.DIMS, np.isnan(values).astype(np.int8), {"units": "1", "long_name": "f"})},
-                    coords={**spec.coords(), **spec.window_coords()})
+    spec = grid.GridSpec(
+        freq_y=np.arange(1.0, ny + 1),
+        freq_z=np.arange(1.0, nz + 1),
+        stiffness=np.arange(1.0, nk + 1) * 10,
+        damping=np.arange(1.0, nc + 1) * 2,
+        amplitude=1e-3,
+        duration=1.0,
+        windows={"transient": (0.0, 1.0)},
+    )
+    ds = xr.Dataset(
+        {
+            criterion.variable("displacement"): (
+                ("window", *grid.DIMS),
+                values[None],
+                criterion.CRITERIA["displacement"],
+            ),
+            "failed": (grid.DIMS, np.isnan(values).astype(np.int8), {"units": "1", "long_name": "f"}),
+        },
+        coords={**spec.coords(), **spec.window_coords()},
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN slices in the spread and gain reductions
         table = criterion.select_table(criterion.reference_table(ds), "displacement", "transient")

@@ -22,15 +22,25 @@ def synthetic_grid(values: np.ndarray, windows=("transient",)) -> xr.Dataset:
     """A grid dataset whose criteria are `values` (criteria..., window..., f_y, f_z, K, C) or (f_y, f_z, K, C)."""
     values = values.reshape((-1, len(windows), *values.shape[-4:]))
     shape = values.shape[-4:]
-    spec = grid.GridSpec(freq_y=np.arange(1.0, shape[0] + 1), freq_z=np.arange(1.0, shape[1] + 1),
-                         stiffness=np.geomspace(10, 1000, shape[2]), damping=np.geomspace(0.1, 10, shape[3]),
-                         amplitude=1e-3, duration=1.0, windows={w: (0.0, 1.0) for w in windows})
+    spec = grid.GridSpec(
+        freq_y=np.arange(1.0, shape[0] + 1),
+        freq_z=np.arange(1.0, shape[1] + 1),
+        stiffness=np.geomspace(10, 1000, shape[2]),
+        damping=np.geomspace(0.1, 10, shape[3]),
+        amplitude=1e-3,
+        duration=1.0,
+        windows={w: (0.0, 1.0) for w in windows},
+    )
     names = list(criterion.CRITERIA)[: values.shape[0]]
-    data = {criterion.variable(n): (("window", *grid.DIMS), v, criterion.CRITERIA[n])
-            for n, v in zip(names, values, strict=True)}
+    data = {
+        criterion.variable(n): (("window", *grid.DIMS), v, criterion.CRITERIA[n])
+        for n, v in zip(names, values, strict=True)
+    }
     failed = np.isnan(values).any(axis=(0, 1)).astype(np.int8)
-    return xr.Dataset({**data, "failed": (grid.DIMS, failed, {"units": "1", "long_name": "f"})},
-                      coords={**spec.coords(), **spec.window_coords()})
+    return xr.Dataset(
+        {**data, "failed": (grid.DIMS, failed, {"units": "1", "long_name": "f"})},
+        coords={**spec.coords(), **spec.window_coords()},
+    )
 
 
 def one_table(values: np.ndarray) -> xr.Dataset:
@@ -84,19 +94,23 @@ def test_table_per_criterion_and_window_is_each_slices_own_optimum():
     values = rng.uniform(0.1, 1.0, (3, 2, 3, 2, 2, 5))
     table = criterion.reference_table(synthetic_grid(values, windows=("transient", "steady")))
     c = np.geomspace(0.1, 10, 5)
-    assert list(table.criterion.values) == list(criterion.CRITERIA) and list(table.window.values) == ["transient",
-                                                                                                    "steady"]
+    assert list(table.criterion.values) == list(criterion.CRITERIA) and list(table.window.values) == [
+        "transient",
+        "steady",
+    ]
     for i, name in enumerate(criterion.CRITERIA):
         assert table[f"criterion_opt_{name}"].attrs["units"] == criterion.CRITERIA[name]["units"]
         for w, window in enumerate(("transient", "steady")):
             part = table.sel(criterion=name, window=window)
             np.testing.assert_array_equal(part.damping_opt.values, c[np.argmin(values[i, w], axis=-1)])
-            np.testing.assert_array_equal(table[f"criterion_opt_{name}"].sel(window=window).values,
-                                          values[i, w].min(axis=-1))
+            np.testing.assert_array_equal(
+                table[f"criterion_opt_{name}"].sel(window=window).values, values[i, w].min(axis=-1)
+            )
             best_constant = np.argmin(values[i, w].mean(axis=(0, 1)), axis=-1)  # per K
             const = np.take_along_axis(values[i, w], best_constant[None, None, :, None], axis=-1)[..., 0]
-            np.testing.assert_allclose(part.scheduling_gain.values,
-                                       (const / values[i, w].min(axis=-1)).mean(axis=(0, 1)), rtol=1e-12)
+            np.testing.assert_allclose(
+                part.scheduling_gain.values, (const / values[i, w].min(axis=-1)).mean(axis=(0, 1)), rtol=1e-12
+            )
             chosen = criterion.select_table(table, name, window)
             np.testing.assert_array_equal(chosen.damping_opt.values, part.damping_opt.values)
             assert chosen.criterion_opt.attrs["units"] == criterion.CRITERIA[name]["units"]
@@ -109,8 +123,11 @@ def test_table_per_criterion_and_window_is_each_slices_own_optimum():
 
 def test_criterion_of_a_sine_is_its_rms():
     t = np.linspace(0, 2, 2001)
-    disp = xr.DataArray(np.stack([2e-3 * np.sin(2 * np.pi * 5 * t), 1e-3 * np.sin(2 * np.pi * 3 * t)]),
-                        dims=("axis", "time"), coords={"axis": ["y", "z"], "time": t})
+    disp = xr.DataArray(
+        np.stack([2e-3 * np.sin(2 * np.pi * 5 * t), 1e-3 * np.sin(2 * np.pi * 3 * t)]),
+        dims=("axis", "time"),
+        coords={"axis": ["y", "z"], "time": t},
+    )
     expected = np.sqrt(2e-3**2 / 2 + 1e-3**2 / 2)
     assert criterion.camera_criterion(disp, (0.0, 2.0)) == pytest.approx(expected, rel=2e-3)
 
@@ -119,9 +136,14 @@ def test_criterion_of_a_sine_is_its_rms():
 def tiny(quick_config):
     """A small grid on the quick platform: 2 x 2 x 2 x 3 points of 0.6 s (linear plant)."""
     cfg = dict(quick_config["reference_table"])
-    cfg.update(freq_y_hz={"values": [4.0, 8.0]}, freq_z_hz={"values": [5.0, 9.0]},
-               stiffness={"values": [10.0, 400.0]}, damping={"values": [1.0, 5.0, 25.0]},
-               duration=0.6, windows={"transient": [0.0, 0.6], "steady": [0.3, 0.6]})
+    cfg.update(
+        freq_y_hz={"values": [4.0, 8.0]},
+        freq_z_hz={"values": [5.0, 9.0]},
+        stiffness={"values": [10.0, 400.0]},
+        damping={"values": [1.0, 5.0, 25.0]},
+        duration=0.6,
+        windows={"transient": [0.0, 0.6], "steady": [0.3, 0.6]},
+    )
     platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
     assert platform["backend"] == "linear"
     return platform, grid.GridSpec.from_config(cfg, quick_config["camera"])
@@ -179,8 +201,13 @@ def test_linear_grid_matches_the_exudyn_grid(tiny, single_chunk, quick_config):
     np.testing.assert_array_equal(exudyn.point.values, single_chunk.point.values)
     assert_same(single_chunk, exudyn, **quick_config["reference_table"]["verify"]["tolerance"])
     with pytest.raises(ValueError, match="different plants"):
-        grid.merge_chunks(spec, [grid.run_chunk(platform, spec, n_chunks=2, chunk=0),
-                                 grid.run_chunk({**platform, "backend": "exudyn"}, spec, n_chunks=2, chunk=1)])
+        grid.merge_chunks(
+            spec,
+            [
+                grid.run_chunk(platform, spec, n_chunks=2, chunk=0),
+                grid.run_chunk({**platform, "backend": "exudyn"}, spec, n_chunks=2, chunk=1),
+            ],
+        )
 
 
 def test_two_workers_give_identical_numbers(tiny, single_chunk):
@@ -239,8 +266,9 @@ def test_verification_samples_corners_and_stores_the_difference(tiny, single_chu
     tolerance = quick_config["reference_table"]["verify"]["tolerance"]
     checked = grid.verify(platform, spec, full, grid.VerifySpec(n_points=18, tolerance=tolerance, seed=3))
     points = checked.verify_point.values
-    corners = {int(np.ravel_multi_index(c, spec.shape)) for c in np.ndindex(2, 2, 2, 2)
-               for c in [(c[0], c[1], c[2], 2 * c[3])]}  # damping axis has 3 values: corners at 0 and 2
+    corners = {
+        int(np.ravel_multi_index(c, spec.shape)) for c in np.ndindex(2, 2, 2, 2) for c in [(c[0], c[1], c[2], 2 * c[3])]
+    }  # damping axis has 3 values: corners at 0 and 2
     assert corners <= set(points.tolist()) and len(set(points.tolist())) == 18
     again = grid.verification_points(spec, 18, 3)
     np.testing.assert_array_equal(points, again)  # seeded
@@ -296,8 +324,9 @@ def test_bad_grid_config_names_the_key(quick_config):
     with pytest.raises(ValueError, match="reference_table.verify.tolerance: must be > 0"):
         grid.VerifySpec.from_config({"n_points": 24, "tolerance": 0.0, "seed": 1})
     with pytest.raises(ValueError, match=r"reference_table.verify.tolerance: no tolerance for \['blur'\]"):
-        grid.VerifySpec.from_config({"n_points": 24, "tolerance": {"displacement": 0.1, "line_of_sight": 0.1},
-                                     "seed": 1})
+        grid.VerifySpec.from_config(
+            {"n_points": 24, "tolerance": {"displacement": 0.1, "line_of_sight": 0.1}, "seed": 1}
+        )
 
 
 def test_quick_table_in_pipeline(quick_run):
@@ -319,8 +348,9 @@ def test_resume_after_kill_gives_identical_table(quick_run, tmp_path):
     workdir = copy_workflow(tmp_path)
     target = "reports/reference_table/table.nc"
     cmd = [sys.executable, "-m", "snakemake", "-j1", target, "--configfile", "config/quick.yaml"]
-    proc = subprocess.Popen(cmd, cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True)
+    proc = subprocess.Popen(
+        cmd, cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
+    )
     chunks = workdir / "reports/reference_table/chunks"
     logs = workdir / "reports/logs/reference_table"
     started: list[str] = []  # chunk jobs in the order their logs appeared (-j1: one at a time)

@@ -16,24 +16,43 @@ from conftest import copy_workflow, load_config, snakemake
 
 from uavdamp import io
 
-HELICOPTER_ALL = {"helicopter_run", "helicopter_vibration", "helicopter_campbell", "helicopter_sensitivity_run",
-                  "helicopter_sensitivity", "excitation", "study"}
+HELICOPTER_ALL = {
+    "helicopter_run",
+    "helicopter_vibration",
+    "helicopter_campbell",
+    "helicopter_sensitivity_run",
+    "helicopter_sensitivity",
+    "excitation",
+    "study",
+}
 GRID_DOWN = {"reference_table_chunk", "reference_table", "anfis", "study"}
 
 # name: (path of the edited key, new value or a function of the old one, rules the dry run must plan besides "all")
 EDITS = {
     "helicopter.fuselage.mass": (("helicopter", "fuselage", "mass"), lambda v: v * 1.01, HELICOPTER_ALL),
     "helicopter.campbell.n_speeds": (("helicopter", "campbell", "n_speeds"), lambda v: v + 2, {"helicopter_campbell"}),
-    "helicopter.sensitivity.duration": (("helicopter", "sensitivity", "duration"), lambda v: v + 0.5,
-                                        {"helicopter_sensitivity_run", "helicopter_sensitivity"}),
-    "platform.structure.camera_mass_kg": (("platform", "structure", "camera_mass_kg"), lambda v: v * 1.01,
-                                          {"platform_modes"} | GRID_DOWN),
+    "helicopter.sensitivity.duration": (
+        ("helicopter", "sensitivity", "duration"),
+        lambda v: v + 0.5,
+        {"helicopter_sensitivity_run", "helicopter_sensitivity"},
+    ),
+    "platform.structure.camera_mass_kg": (
+        ("platform", "structure", "camera_mass_kg"),
+        lambda v: v * 1.01,
+        {"platform_modes"} | GRID_DOWN,
+    ),
     "platform.response.duration_s": (("platform", "response", "duration_s"), lambda v: v + 0.5, {"platform_modes"}),
-    "platform.isolator.damping_max_n_s_m": (("platform", "isolator", "damping_max_n_s_m"), lambda v: v * 1.1,
-                                            {"platform_modes"} | GRID_DOWN),
+    "platform.isolator.damping_max_n_s_m": (
+        ("platform", "isolator", "damping_max_n_s_m"),
+        lambda v: v * 1.1,
+        {"platform_modes"} | GRID_DOWN,
+    ),
     "reference_table.damping": (("reference_table", "damping", "num"), lambda v: v + 1, GRID_DOWN),
-    "reference_table.flat_tolerance": (("reference_table", "flat_tolerance"), lambda v: v * 2,
-                                       {"reference_table", "anfis", "study"}),
+    "reference_table.flat_tolerance": (
+        ("reference_table", "flat_tolerance"),
+        lambda v: v * 2,
+        {"reference_table", "anfis", "study"},
+    ),
     "anfis.ridge": (("anfis", "ridge"), lambda v: v + 1e-6, {"anfis", "study"}),
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
     "study.tracking.window_s": (("study", "tracking", "window_s"), lambda v: v * 0.8, {"excitation", "study"}),
@@ -51,7 +70,7 @@ def planned_rules(workdir, config: dict) -> set[str]:
     plan = result.stdout + result.stderr
     if "Nothing to be done" in plan:
         return set()
-    table = plan[plan.index("job "):plan.index("total")]
+    table = plan[plan.index("job ") : plan.index("total")]
     return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
 
 
@@ -86,8 +105,11 @@ PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall
 
 def _attrs(attrs: dict, workdir) -> dict:
     """Attributes less PROVENANCE, with the run's folder (in config_files) written as <workdir>."""
-    return {k: v.replace(str(workdir), "<workdir>") if isinstance(v, str) else v
-            for k, v in attrs.items() if k not in PROVENANCE}
+    return {
+        k: v.replace(str(workdir), "<workdir>") if isinstance(v, str) else v
+        for k, v in attrs.items()
+        if k not in PROVENANCE
+    }
 
 
 def assert_same_netcdf_files(first, second) -> int:

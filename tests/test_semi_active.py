@@ -32,8 +32,15 @@ def plant(params) -> LinearPlant:
 
 def _observation(t_now=0.0, base_velocity=(0.0, 0.0), mount_velocity=(0.0, 0.0)) -> Observation:
     t = np.array([t_now])
-    return Observation(t_now, t, np.zeros(1), np.zeros(1), np.asarray(base_velocity, float),
-                       np.asarray(mount_velocity, float), np.zeros(2))
+    return Observation(
+        t_now,
+        t,
+        np.zeros(1),
+        np.zeros(1),
+        np.asarray(base_velocity, float),
+        np.asarray(mount_velocity, float),
+        np.zeros(2),
+    )
 
 
 # ---------------------------------------------------------------- skyhook, groundhook, hybrid (one axis: closed form)
@@ -103,8 +110,9 @@ class _Recorder:
 @pytest.mark.parametrize("stiffness", [10.0, 1000.0])
 def test_clipped_optimal_asks_only_for_forces_a_damper_can_give(plant, params, stiffness):
     bounds = DamperBounds.from_params(params)
-    law = _Recorder(semi_active.ClippedOptimal(plant.model, stiffness, bounds, params.time_step, q_scale=1e-3,
-                                               r_scale=0.1))
+    law = _Recorder(
+        semi_active.ClippedOptimal(plant.model, stiffness, bounds, params.time_step, q_scale=1e-3, r_scale=0.1)
+    )
     time, y, z = sine_input(7.0, 8.0, 1.3e-3, 1.0, params.time_step)
     response = plant.run(time, y, z, stiffness=stiffness, law=law)
     desired, v_rel, c = (np.array(x) for x in zip(*law.rows, strict=True))
@@ -148,8 +156,10 @@ def test_table_lookup_reproduces_the_table_at_its_grid_points():
     rng = np.random.default_rng(3)
     fy, fz, k = np.linspace(3, 12, 4), np.linspace(3, 12, 5), np.array([10.0, 100.0, 1000.0])
     values = rng.uniform(0.5, 100.0, (4, 5, 3))
-    table = xr.Dataset({"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
-                       coords={"freq_y": fy, "freq_z": fz, "stiffness": k})
+    table = xr.Dataset(
+        {"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
+        coords={"freq_y": fy, "freq_z": fz, "stiffness": k},
+    )
     model = semi_active.TableModel(table)
     grid = np.array(np.meshgrid(fy, fz, k, indexing="ij")).reshape(3, -1).T
     np.testing.assert_allclose(model.predict(grid), values.ravel(), rtol=1e-12)
@@ -167,8 +177,9 @@ def test_table_lookup_reproduces_the_table_at_its_grid_points():
 def test_lag_step_response_is_one_minus_exp(plant, params):
     """A command step 0 -> 1 N s/m at t = P gives C = 1 - exp(-(t - P) / tau) at the grid points (applied C)."""
     h, period, tau = params.time_step, 0.1, 0.02
-    lagged = semi_active.Lagged(laws.Schedule([0.0, 1.0], update_period=period), tau, h, period,
-                                DamperBounds(0.0, 200.0))
+    lagged = semi_active.Lagged(
+        laws.Schedule([0.0, 1.0], update_period=period), tau, h, period, DamperBounds(0.0, 200.0)
+    )
     time, y, z = sine_input(7.0, 8.0, 1.3e-3, 0.3, h)
     applied = plant.run(time, y, z, stiffness=10.0, law=lagged).damping.values[:-1]
     t = time[:-1]

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
-
 from conftest import snakemake
+
 from uavdamp import excitation, io, laws, metrics, strategies, study
 from uavdamp.excitation import sine_input
 
@@ -21,7 +21,10 @@ def fake_run(duration=6.0, dt=0.005):
 
 def test_cases_high_pass_and_scale():
     peak = {"amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
-    cases = {"a": {"run": "imbalanced", "amplitude": 1.3e-3, **peak}, "b": {"run": "imbalanced", "amplitude": 0.5e-3, **peak}}
+    cases = {
+        "a": {"run": "imbalanced", "amplitude": 1.3e-3, **peak},
+        "b": {"run": "imbalanced", "amplitude": 0.5e-3, **peak},
+    }
     ds = excitation.cases_dataset({"imbalanced": fake_run()}, cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
     assert ds.mount_displacement.dims == ("case", "axis", "time")
     assert float(ds.time[-1]) == pytest.approx(5.0)
@@ -32,12 +35,20 @@ def test_cases_high_pass_and_scale():
     np.testing.assert_allclose(ds.dominant_freq, 7.0, rtol=0.01)
     y = ds.mount_displacement.sel(case="a", axis="y").values
     t = ds.time.values
-    fit = np.linalg.lstsq(np.column_stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t), np.sin(14 * np.pi * t),
-                                           np.cos(14 * np.pi * t)]), y, rcond=None)[0]
+    fit = np.linalg.lstsq(
+        np.column_stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t), np.sin(14 * np.pi * t), np.cos(14 * np.pi * t)]),
+        y,
+        rcond=None,
+    )[0]
     assert np.hypot(*fit[:2]) < 0.05 * np.hypot(*fit[2:])
     with pytest.raises(ValueError, match="study.cases.c.run"):
-        excitation.cases_dataset({"imbalanced": fake_run()}, {"c": {"run": "nope", "amplitude": 1e-3, **peak}},
-                                 duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
+        excitation.cases_dataset(
+            {"imbalanced": fake_run()},
+            {"c": {"run": "nope", "amplitude": 1e-3, **peak}},
+            duration=5.0,
+            highpass_hz=3.0,
+            band_hz=(3, 12),
+        )
 
 
 @pytest.fixture(scope="module")
@@ -90,7 +101,7 @@ def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
     result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", str(edited.relative_to(quick_run)), timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
     plan = result.stdout + result.stderr
-    table = plan[plan.index("job "):plan.index("total")]
+    table = plan[plan.index("job ") : plan.index("total")]
     planned = {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
     assert planned == {"anfis", "study", "all"}, plan
 
@@ -115,20 +126,30 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
 
     @strategies.register("stiff_damper")
     def stiff_damper(ctx):
-        return strategies.Strategy("stiff_damper", "isolated", laws.Constant(ctx.bounds.c_max),
-                                   {"stiff_c": (ctx.bounds.c_max, "N s m-1", "the stiff damper's C")})
+        return strategies.Strategy(
+            "stiff_damper",
+            "isolated",
+            laws.Constant(ctx.bounds.c_max),
+            {"stiff_c": (ctx.bounds.c_max, "N s m-1", "the stiff damper's C")},
+        )
 
     @metrics.register("mean_base_y")
     def mean_base_y(response, options):
         return metrics._named(float(response.base_displacement.sel(axis="y").mean()), "m", "mean base y")
 
     t, y, z = sine_input(7.0, 8.0, 1e-3, 0.6, 0.004)
-    cases = xr.Dataset({"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
-                       coords={"case": ("case", ["sine"], {"units": "1", "long_name": "case"}),
-                               "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
-                               "time": ("time", t, {"units": "s", "long_name": "time"})})
+    cases = xr.Dataset(
+        {"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
+        coords={
+            "case": ("case", ["sine"], {"units": "1", "long_name": "case"}),
+            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
+            "time": ("time", t, {"units": "s", "long_name": "time"}),
+        },
+    )
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
-    options = study.StudyOptions.from_config({**cfg, "strategies": ["passive", "stiff_damper"], "stiffness_n_m": [50.0]})
+    options = study.StudyOptions.from_config(
+        {**cfg, "strategies": ["passive", "stiff_damper"], "stiffness_n_m": [50.0]}
+    )
     platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
     ds = study.run_study(cases, platform, None, options)
     assert list(ds.strategy.values) == ["passive", "stiff_damper"]
@@ -158,12 +179,14 @@ def test_blur_recomputed_from_the_stored_line_of_sight_equals_the_stored_metric(
     from uavdamp.image_quality import image_metrics
 
     attrs = {k.removeprefix("camera_"): v for k, v in comparison.attrs.items() if k.startswith("camera_")}
-    camera = CameraModel.from_config({k: (int(v) if k.endswith("_px") and k.startswith("image") else float(v))
-                                      for k, v in attrs.items()})
+    camera = CameraModel.from_config(
+        {k: (int(v) if k.endswith("_px") and k.startswith("image") else float(v)) for k, v in attrs.items()}
+    )
     for case in comparison.case.values:
         run = comparison.sel(case=case, stiffness=comparison.stiffness[0], strategy="passive")
-        again = image_metrics(run.time.values, run.camera_displacement.values, run.camera_yaw.values,
-                              run.camera_pitch.values, camera)
+        again = image_metrics(
+            run.time.values, run.camera_displacement.values, run.camera_yaw.values, run.camera_pitch.values, camera
+        )
         for name in ("blur_p95", "sharp_fraction", "los_std", "mtf_nyquist_median"):
             assert again[name][0] == float(run[name]), (case, name)
         assert float(run.blur_max) == float(run.frame_blur.max())
