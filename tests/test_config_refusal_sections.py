@@ -57,7 +57,7 @@ UNKNOWN = {
     "top": ({"camerra": {"x": 1}}, "('camerra' was unexpected)"),
     "helicopter": ({"helicopter": {"rotor_count": 2}}, "('rotor_count' was unexpected)"),
     "platform": ({"platform": {"isolator": {"stiffnes_n_m": 5.0}}}, "('stiffnes_n_m' was unexpected)"),
-    "reference_table": ({"reference_table": {"windows": [0.0, 1.0]}}, "('windows' was unexpected)"),
+    "reference_table": ({"reference_table": {"window_s": [0.0, 1.0]}}, "('window_s' was unexpected)"),
     "anfis": ({"anfis": {"epoch": 3}}, "('epoch' was unexpected)"),
     "study": ({"study": {"tracking": {"windw_s": 1.0}}}, "('windw_s' was unexpected)"),
     "camera": ({"camera": {"iso": 100}}, "('iso' was unexpected)"),
