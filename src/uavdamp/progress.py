@@ -12,30 +12,15 @@ import sys
 from tqdm import tqdm
 
 
+# on the terminal Snakemake runs in, off where that is not a terminal, not in the job's log
+_ON_CONSOLE = {"file": sys.__stderr__, "disable": None, "mininterval": 1.0, "leave": False, "dynamic_ncols": True}
+
+
 def bar(total: float, desc: str, unit: str) -> tqdm:
     """A bar of `total` units; call .update(n) and .close()."""
-    return tqdm(
-        total=total,
-        desc=desc,
-        unit=unit,
-        file=sys.__stderr__,
-        disable=None,
-        mininterval=1.0,
-        leave=False,
-        dynamic_ncols=True,
-    )
+    return tqdm(total=total, desc=desc, unit=unit, **_ON_CONSOLE)
 
 
 def each(iterable, total: int, desc: str, unit: str = "run"):
     """`iterable` with a bar."""
-    return tqdm(
-        iterable,
-        total=total,
-        desc=desc,
-        unit=unit,
-        file=sys.__stderr__,
-        disable=None,
-        mininterval=1.0,
-        leave=False,
-        dynamic_ncols=True,
-    )
+    return tqdm(iterable, total=total, desc=desc, unit=unit, **_ON_CONSOLE)
