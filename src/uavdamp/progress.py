@@ -11,7 +11,6 @@ import sys
 
 from tqdm import tqdm
 
-
 # on the terminal Snakemake runs in, off where that is not a terminal, not in the job's log
 _ON_CONSOLE = {"file": sys.__stderr__, "disable": None, "mininterval": 1.0, "leave": False, "dynamic_ncols": True}
 
