@@ -66,6 +66,15 @@ def snakemake(workdir: Path, *args: str, timeout: float = 1800) -> subprocess.Co
     )
 
 
+def planned_rules(result: subprocess.CompletedProcess) -> set[str]:
+    """The rules in a Snakemake dry run's job-count table (empty when there is nothing to be done)."""
+    plan = result.stdout + result.stderr
+    if "Nothing to be done" in plan:
+        return set()
+    table = plan[plan.index("job ") : plan.index("total")]
+    return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
+
+
 @pytest.fixture(scope="session")
 def quick_run(tmp_path_factory) -> Path:
     """The quick config run from nothing through `all`, once per test session."""

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
-from conftest import copy_workflow, load_config, snakemake
+from conftest import copy_workflow, load_config, planned_rules, snakemake
 from test_learning import OPTIONS
 from test_reference_table import synthetic_grid
 
@@ -121,11 +121,7 @@ def test_chosen_criterion_reaches_the_anfis():
 def _planned(workdir, configfile: str) -> set[str]:
     result = snakemake(workdir, "-n", "-j1", "all", "--configfile", configfile, timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
-    plan = result.stdout + result.stderr
-    if "Nothing to be done" in plan:
-        return set()
-    table = plan[plan.index("job ") : plan.index("total")]
-    return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
+    return planned_rules(result)
 
 
 def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_path):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 
 import pytest
-from conftest import snakemake
+from conftest import planned_rules, snakemake
 
 # one output of each kind per producing rule (rule name, path under the quick run's folder)
 OUTPUTS = [
@@ -25,11 +25,6 @@ OUTPUTS = [
 ]
 
 
-def _planned(output: str) -> set[str]:
-    table = output[output.index("job ") : output.index("total")]
-    return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
-
-
 @pytest.mark.parametrize(("rule", "path"), OUTPUTS, ids=[p.rsplit("/", 1)[-1] for _, p in OUTPUTS])
 def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
     target = quick_run / path
@@ -41,7 +36,7 @@ def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
     finally:
         os.replace(aside, target)
     assert result.returncode == 0, result.stderr[-3000:]
-    assert rule in _planned(result.stdout + result.stderr), (rule, result.stdout[-3000:])
+    assert rule in planned_rules(result), (rule, result.stdout[-3000:])
 
 
 def test_nothing_planned_after_a_complete_run(quick_run):

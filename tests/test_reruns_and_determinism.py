@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import yaml
 from conftest import copy_workflow, load_config, snakemake
+from conftest import planned_rules as dry_run_rules
 
 from uavdamp import io
 
@@ -72,11 +73,7 @@ def planned_rules(workdir, config: dict) -> set[str]:
     edited.write_text(yaml.safe_dump(config, sort_keys=False))
     result = snakemake(workdir, "-n", "-j1", "all", "--configfile", str(edited.relative_to(workdir)), timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
-    plan = result.stdout + result.stderr
-    if "Nothing to be done" in plan:
-        return set()
-    table = plan[plan.index("job ") : plan.index("total")]
-    return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
+    return dry_run_rules(result)
 
 
 @pytest.mark.parametrize("name", sorted(EDITS))

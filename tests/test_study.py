@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
-from conftest import snakemake
+from conftest import planned_rules, snakemake
 
 from uavdamp import excitation, io, laws, metrics, strategies, study
 from uavdamp.excitation import sine_input
@@ -100,10 +100,7 @@ def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
     edited.write_text(yaml.safe_dump(config))
     result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", str(edited.relative_to(quick_run)), timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
-    plan = result.stdout + result.stderr
-    table = plan[plan.index("job ") : plan.index("total")]
-    planned = {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
-    assert planned == {"anfis", "study", "all"}, plan
+    assert planned_rules(result) == {"anfis", "study", "all"}, result.stdout[-3000:]
 
 
 def test_html_report(quick_run):

@@ -116,6 +116,18 @@ def clip(demand: float, bounds: DamperBounds, t_now: float) -> float:
     return min(max(c, bounds.c_min), bounds.c_max)
 
 
+def response_attrs(plant, stiffness: float) -> dict:
+    """The attributes every plant's response carries: which plant, mount and body, K (N m-1; NaN rigid), step (s)."""
+    return {
+        "title": "Camera platform response to a prescribed fuselage displacement",
+        "plant": plant.name,
+        "mount": plant.mount,
+        "body": plant.body,
+        "isolator_stiffness_N_m": stiffness,
+        "time_step_s": plant.params.time_step,
+    }
+
+
 def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dict) -> xr.Dataset:
     """A plant's response dataset from arrays named and shaped as in RESPONSE_VARIABLES (all of them)."""
     missing = sorted(set(RESPONSE_VARIABLES) - set(values))

@@ -384,15 +384,7 @@ class LinearPlant:
             "base_displacement": pair("base"),
             "isolator_velocity": pair("stroke_rate"),
         }
-        attrs = {
-            "title": "Camera platform response to a prescribed fuselage displacement",
-            "plant": self.name,
-            "mount": self.mount,
-            "body": self.body,
-            "isolator_stiffness_N_m": stiffness,
-            "time_step_s": self.params.time_step,
-        }
-        return contract.response_dataset(grid, values, attrs)
+        return contract.response_dataset(grid, values, contract.response_attrs(self, stiffness))
 
 
 def window_steps(duration: float, window: tuple[float, float], h: float) -> np.ndarray:

@@ -280,12 +280,7 @@ class ExudynPlant:
             "isolator_velocity": stroke_rate,
         }
         attrs = {
-            "title": "Camera platform response to a prescribed fuselage displacement",
-            "plant": self.name,
-            "mount": self.mount,
-            "body": self.body,
-            "isolator_stiffness_N_m": stiffness,
-            "time_step_s": self.params.time_step,
+            **contract.response_attrs(self, stiffness),
             "law": getattr(run.law, "name", "none"),
             "newton_iterations": self.newton_iterations,
             "jacobian_updates": self.jacobian_updates,
