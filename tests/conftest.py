@@ -77,8 +77,8 @@ def planned_rules(result: subprocess.CompletedProcess) -> set[str]:
 
 @pytest.fixture(scope="session")
 def quick_run(tmp_path_factory) -> Path:
-    """The quick config run from nothing through `all`, once per test session."""
+    """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per session."""
     workdir = copy_workflow(tmp_path_factory.mktemp("quick"))
-    result = snakemake(workdir, "-j2", "all", "--configfile", "config/quick.yaml")
+    result = snakemake(workdir, "-j2", "all", "benchmark", "--configfile", "config/quick.yaml")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
     return workdir

@@ -2,15 +2,15 @@
 
 import numpy as np
 import pytest
-import xarray as xr
 from conftest import load_config
 
-from uavdamp import benchmark, io, scenarios, semi_active
+from uavdamp import benchmark, io, learning, scenarios
 from uavdamp.linear_plant import LinearPlant
 from uavdamp.platform import PlatformParams
 
 CONFIG = load_config("quick.yaml")
 BENCH = CONFIG["benchmark"]
+BENCH_CONTROLLERS = BENCH["controllers"]
 HELI = {k: v for k, v in CONFIG["helicopter"].items() if k not in ("spectrum", "campbell", "sensitivity")}
 
 
@@ -28,17 +28,6 @@ def options() -> benchmark.BenchmarkOptions:
 def inputs(params) -> dict:
     names = scenarios.scenario_specs(BENCH)
     return {name: scenarios.scenario_input(name, BENCH, HELI, params.time_step) for name in names}
-
-
-def _table() -> xr.Dataset:
-    """A stand-in reference table: C = 0.5 f_y (N s/m per Hz) at every K (the lookup's plumbing, not its values)."""
-    fy = fz = np.linspace(3.0, 12.0, 4)
-    k = np.array([10.0, 100.0, 1000.0])
-    values = np.broadcast_to(0.5 * fy[:, None, None], (4, 4, 3)).copy()
-    return xr.Dataset(
-        {"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
-        coords={"freq_y": fy, "freq_z": fz, "stiffness": k},
-    )
 
 
 def test_split_is_seeded_complete_and_has_both_sets():
@@ -106,15 +95,14 @@ def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, o
     assert tuned.attrs["tuning_scenarios"] == ", ".join(tuning)
 
 
-def test_quick_benchmark(inputs, params, options, tmp_path):
-    """The quick config's benchmark end to end (no Snakemake): tune, run every controller, gather, write."""
+def test_quick_benchmark(inputs, params, options, quick_run, tmp_path):
+    """The quick config's benchmark in one process on the table and model the quick run wrote: tune, run every
+    controller, gather, write."""
     split = scenarios.split(list(inputs), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
     tuned = benchmark.tune({n: inputs[n] for n in inputs if split[n] == "tuning"}, params, options)
-    table = _table()
-    runs = [
-        benchmark.run_scenario(inputs[n], tuned, params, options, model=semi_active.TableModel(table), table=table)
-        for n in inputs
-    ]
+    table = io.open_dataset(quick_run / "reports/reference_table/table.nc")
+    model = learning.TableModel.from_dataset(io.open_dataset(quick_run / "reports/anfis/model.nc"))
+    runs = [benchmark.run_scenario(inputs[n], tuned, params, options, model=model, table=table) for n in inputs]
     ds = benchmark.gather(runs, split, tuned)
     assert ds.J.dims == ("scenario", "controller", "stiffness", "criterion", "damper")
     np.testing.assert_allclose(ds.J.sel(controller="rigid"), 1.0)  # the reference of every criterion
@@ -142,3 +130,14 @@ def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
     wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}
     found = {w.strip(",") for w in result.stdout.split() if w.startswith("reports/benchmark/scenarios/")}
     assert found == wanted
+
+
+def test_benchmark_target_runs_end_to_end(quick_run):
+    """`snakemake benchmark` on the quick config from a clean folder, upstream included (the session's quick run):
+    criteria.nc holds every controller, scenario and criterion, and the table lookup ran on the real table."""
+    ds = io.open_dataset(quick_run / "reports/benchmark/criteria.nc")
+    split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    assert sorted(ds.scenario.values) == sorted(split)
+    assert list(ds.controller.values) == list(BENCH_CONTROLLERS)
+    assert np.all(np.isfinite(ds.J.sel(controller="table_lookup", criterion="displacement_std")))
+    np.testing.assert_allclose(ds.J.sel(controller="rigid"), 1.0)

@@ -82,12 +82,21 @@ class Hybrid:
 class TableModel:
     """The reference table as a model: predict([[f_y Hz, f_z Hz, K N/m]]) -> damping_opt, N s m-1.
 
-    Trilinear interpolation of `damping_opt` (freq_y, freq_z, stiffness) in (f_y, f_z, log10 K) (choice: K's
-    grid is logarithmic); inputs outside the grid are moved to its edge (choice: no extrapolation); a cell next to
-    a NaN optimum gives NaN (`AnfisLaw` then holds its last demand).
+    table: the reference table (`criterion.reference_table`, over criterion and window, as `table.nc` holds it);
+    criterion, window: the optimum to look up (default: the ones the table names in its attributes, those the
+    ANFIS learns). Trilinear interpolation of `damping_opt` (freq_y, freq_z, stiffness) in (f_y, f_z, log10 K)
+    (choice: K's grid is logarithmic); inputs outside the grid are moved to its edge (choice: no extrapolation); a
+    cell next to a NaN optimum gives NaN (`AnfisLaw` then holds its last demand).
     """
 
-    def __init__(self, table: xr.Dataset):
+    def __init__(self, table: xr.Dataset, criterion: str | None = None, window: str | None = None):
+        from uavdamp.criterion import select_table
+
+        if "criterion" in table.dims or "window" in table.dims:
+            criterion = table.attrs["criterion"] if criterion is None else criterion
+            window = table.attrs["window"] if window is None else window
+            table = select_table(table, criterion, window)
+        self.criterion, self.window = table.attrs.get("criterion"), table.attrs.get("window")
         da = table["damping_opt"].transpose("freq_y", "freq_z", "stiffness")
         self.axes = (
             np.asarray(table.freq_y, float),
