@@ -20,8 +20,8 @@ from unittest import mock
 import numpy as np
 from threadpoolctl import threadpool_info, threadpool_limits
 
-from uavdamp import anfis
-from uavdamp.anfis import ANFIS
+from uavdamp.anfis import estimator as anfis
+from uavdamp.anfis.estimator import ANFIS
 
 LO = np.array([5.0, 5.0, 10.0])  # f_y [Hz], f_z [Hz], K [N/m]
 HI = np.array([30.0, 30.0, 1000.0])

@@ -17,9 +17,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-os.environ.setdefault("EXUDYN_MODULE", "fast")  # as the pipeline's chunk jobs
+os.environ.setdefault("EXUDYN_MODULE", "fast")  # as the pipeline's jobs (workflow/Snakefile)
 
-from uavdamp import criterion, grid  # noqa: E402
+from uavdamp.config import load  # noqa: E402
+from uavdamp.reference_table import GridSpec, chunks, grid, verify  # noqa: E402
+from uavdamp.reference_table import criteria as criterion  # noqa: E402
 
 parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 parser.add_argument("--blocks", type=int, default=8, help="(K, C) blocks for the linear plant")
@@ -27,10 +29,9 @@ parser.add_argument("--exudyn-points", type=int, default=40, help="points of tho
 parser.add_argument("--stage", action="store_true", help="also time the whole default grid and its verification")
 args = parser.parse_args()
 
-cfg = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())
-platform = {k: v for k, v in cfg["platform"].items() if k != "response"}
-_, model = grid.split_platform(platform)
-spec = grid.GridSpec.from_config(cfg["reference_table"])
+typed = load(yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text()))
+platform = typed.platform
+spec = GridSpec.of(typed.reference_table)
 rng = np.random.default_rng(11)
 n_blocks = spec.stiffness.size * spec.damping.size
 blocks = np.sort(rng.choice(n_blocks, size=min(args.blocks, n_blocks), replace=False))
@@ -38,16 +39,16 @@ points = np.concatenate([grid.block_points(spec, b) for b in blocks])
 sample = np.sort(rng.choice(points, size=min(args.exudyn_points, points.size), replace=False))
 print(f"default grid: {spec.size} points in {n_blocks} (K, C) blocks of {spec.freq_y.size * spec.freq_z.size}")
 
-grid.evaluate_batch(model, spec, blocks[:1], backend="linear")  # build and linearise outside the timing
+chunks.evaluate_batch(platform, spec, blocks[:1])  # build and linearise outside the timing
 t0 = time.perf_counter()
-linear = grid.evaluate_batch(model, spec, blocks, backend="linear")
+linear = chunks.evaluate_batch(platform, spec, blocks)
 linear_rate = points.size / (time.perf_counter() - t0)
-grid.evaluate_points(model, spec, sample[:1], "exudyn")  # build outside the timing
+verify.evaluate_points(platform, spec, sample[:1], "exudyn")  # build outside the timing
 t0 = time.perf_counter()
-exudyn = grid.evaluate_points(model, spec, sample, "exudyn")
+exudyn = verify.evaluate_points(platform, spec, sample, "exudyn")
 exudyn_rate = sample.size / (time.perf_counter() - t0)
 t0 = time.perf_counter()
-grid.evaluate_points(model, spec, sample, "linear")
+verify.evaluate_points(platform, spec, sample, "linear")
 single_rate = sample.size / (time.perf_counter() - t0)
 
 on_sample = linear["criterion"][[int(np.flatnonzero(linear["indices"] == p)[0]) for p in sample]]
@@ -61,12 +62,12 @@ print(f"largest relative criterion difference on the {sample.size} Exudyn points
 
 if args.stage:
     t0 = time.perf_counter()
-    ds = grid.run_chunk(platform, spec, n_chunks=1, chunk=0, n_jobs=2)
+    ds = chunks.run_chunk(platform, spec, n_chunks=1, chunk=0, n_jobs=2)
     stage = time.perf_counter() - t0
-    full = grid.merge_chunks(spec, [ds])
-    check = grid.VerifySpec.from_config(cfg["reference_table"]["verify"])
+    full = chunks.merge_chunks(spec, [ds])
+    check = typed.reference_table.verify
     t0 = time.perf_counter()
-    checked = grid.verify(platform, spec, full, check, n_jobs=2)
+    checked = verify.verify(platform, spec, full, check, n_jobs=2)
     verify_time = time.perf_counter() - t0
     worst = int(np.argmax(checked.verify_relative_difference.values))
     print(f"whole grid, 2 workers: {stage:.1f} s ({spec.size / stage:.0f} points/s), {ds.attrs['n_failed']} failed")
@@ -75,7 +76,8 @@ if args.stage:
         f"{float(checked.verify_max_relative_difference):.3%} at point "
         f"{spec.point(int(checked.verify_point.values[worst]))}"
     )
-    table = criterion.reference_table(full, cfg["reference_table"]["flat_tolerance"])
+    table = criterion.reference_table(full, typed.reference_table.flat_tolerance)
+    table = table.sel(criterion="displacement", window="transient")
     for k, gain, spread in zip(
         spec.stiffness, table.scheduling_gain.values, table.damping_opt_spread.values, strict=True
     ):

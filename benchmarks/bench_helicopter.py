@@ -23,24 +23,28 @@ if args.fast:
 
 import numpy as np  # noqa: E402
 
-from uavdamp import floquet, helicopter, rotor_modes  # noqa: E402
+from uavdamp import helicopter  # noqa: E402
+from uavdamp.helicopter import floquet  # noqa: E402
+from uavdamp.helicopter import modes as rotor_modes  # noqa: E402
+from uavdamp.settings import parse  # noqa: E402
 
 cfg = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())["helicopter"]
 if args.modes:
-    heli, opts = helicopter.Helicopter.from_config(cfg), cfg["campbell"]
-    speeds = np.linspace(0.0, opts["max_speed_ratio"] * heli.main_rotor.omega_rad_s, opts["n_speeds"])
-    print(f"{'Campbell s':>10} {'Floquet s':>10}  ({len(speeds)} speeds, {opts['floquet_steps']} azimuth steps)")
+    heli = parse(helicopter.HelicopterSection, cfg, "helicopter")
+    opts = heli.campbell
+    speeds = np.linspace(0.0, opts.max_speed_ratio * heli.main_rotor.omega_rad_s, opts.n_speeds)
+    print(f"{'Campbell s':>10} {'Floquet s':>10}  ({len(speeds)} speeds, {opts.floquet_steps} azimuth steps)")
     for _ in range(args.repeats):
         t0 = time.perf_counter()
-        rotor_modes.campbell(heli.balanced(), speeds, check_azimuths_rad=opts["check_azimuths_rad"])
+        rotor_modes.campbell(heli.balanced(), speeds, check_azimuths_rad=opts.check_azimuths_rad)
         t1 = time.perf_counter()
-        floquet.floquet_exponents(heli, opts["floquet_steps"])
+        floquet.floquet_exponents(heli, opts.floquet_steps)
         print(f"{t1 - t0:10.2f} {time.perf_counter() - t1:10.2f}")
     sys.exit(0)
 if args.duration:
-    cfg["solver"]["duration"] = args.duration
-heli = helicopter.Helicopter.from_config(cfg)
-options = helicopter.SolverOptions.from_config(cfg["solver"])
+    cfg["solver"]["duration_s"] = args.duration
+heli = parse(helicopter.HelicopterSection, cfg, "helicopter")
+options = heli.solver
 print(f"{options.duration:g} s simulated, step {options.step:g} s, fast module: {args.fast}")
 print(f"{'build s':>8} {'solve wall s':>12} {'solve cpu s':>11} {'sim s / wall s':>14} {'newton it.':>10}")
 for _ in range(args.repeats):

@@ -11,7 +11,9 @@ import time
 import yaml
 
 from uavdamp.excitation import sine_input
+from uavdamp.laws import Constant, Schedule
 from uavdamp.platform import ExudynPlant, PlatformParams
+from uavdamp.settings import parse, view
 
 DURATION = 5.0  # s, run length
 FREQ_Y_HZ, FREQ_Z_HZ = 7.0, 8.0  # near the paper's fuselage Y (44.04 rad/s) and Z (50.58 rad/s) peaks
@@ -40,7 +42,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5)
     args = parser.parse_args()
     with open(args.config) as f:
-        params = PlatformParams.from_config(yaml.safe_load(f)["platform"])
+        params = parse(PlatformParams, view(yaml.safe_load(f)["platform"], PlatformParams), "platform")
     h = params.time_step
     t, y, z = sine_input(FREQ_Y_HZ, FREQ_Z_HZ, AMPLITUDE, DURATION, h)
     print(f"{DURATION:g} s run at {FREQ_Y_HZ:g} Hz (y), {FREQ_Z_HZ:g} Hz (z); time step {h:g} s ({t.size - 1} steps)")
@@ -55,7 +57,7 @@ def main() -> None:
             builds.append(time.perf_counter() - t0)
             pre_step = _timed(sim)
             t0 = time.perf_counter()
-            sim.run(t, y, z, stiffness=params.isolator_stiffness, law=DAMPING)
+            sim.run(t, y, z, stiffness=params.isolator_stiffness, law=Constant(DAMPING))
             totals.append(time.perf_counter() - t0)
             solves.append(sim.solve_time)
             pre.append(pre_step[0])
@@ -70,14 +72,12 @@ def main() -> None:
     for body in ("full", "lumped"):
         sim = ExudynPlant(params, body=body)
         counts = {}
-        for label, damping, signal in (
-            ("constant C = 2", 2.0, True),
-            ("constant C = 20", 20.0, True),
-            (f"switched 2/20 every {params.update_period:g} s", schedule, True),
-            ("switched, no Jacobian signal", schedule, False),
+        for label, law in (
+            ("constant C = 2", Constant(2.0)),
+            ("constant C = 20", Constant(20.0)),
+            (f"switched 2/20 every {params.update_period:g} s", Schedule(schedule)),
         ):
-            sim.signal_jacobian_update = signal
-            sim.run(t, y, z, stiffness=10.0, law=damping)
+            sim.run(t, y, z, stiffness=10.0, law=law)
             counts[label] = (sim.newton_iterations, sim.jacobian_updates)
         line = "; ".join(f"{k}: {n} ({j})" for k, (n, j) in counts.items())
         print(f"  {body}: {line}")

@@ -9,8 +9,17 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 import yaml
+
+from uavdamp.config import Config, load
+from uavdamp.contract import Observation
+from uavdamp.platform import PlatformParams
+from uavdamp.reference_table import criteria
+from uavdamp.reference_table.grid import DIMS, GridSpec
+from uavdamp.settings import parse
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -34,6 +43,11 @@ def load_config(name: str = "config.yaml") -> dict:
     return deep_update(base, yaml.safe_load((ROOT / "config" / name).read_text()))
 
 
+def typed_config(name: str = "config.yaml") -> Config:
+    """A shipped config through the one config layer (`uavdamp.config.load`)."""
+    return load(load_config(name))
+
+
 @pytest.fixture(scope="session")
 def default_config() -> dict:
     return load_config()
@@ -44,10 +58,42 @@ def quick_config() -> dict:
     return load_config("quick.yaml")
 
 
+# The platform section as in config/config.yaml (a documented choice; the targets are the paper's Table 1).
+PLATFORM = {key: value for key, value in load_config()["platform"].items() if key != "response"}
+
+
+def platform_config(**changes) -> dict:
+    """PLATFORM with keys replaced in whichever section holds them (unknown keys go to the top level)."""
+    config = {section: dict(values) if isinstance(values, dict) else values for section, values in PLATFORM.items()}
+    for key, value in changes.items():
+        section = next((name for name, values in config.items() if isinstance(values, dict) and key in values), None)
+        (config[section] if section else config)[key] = value
+    return config
+
+
+def platform_params(**changes) -> PlatformParams:
+    """The default platform with `changes` (config keys, e.g. time_step_s=1e-3), typed."""
+    return parse(PlatformParams, platform_config(**changes), "platform")
+
+
+class FunctionLaw:
+    """A damping law from a function of the observation, called every `update_period` s."""
+
+    name = "function"
+
+    def __init__(self, fn, update_period=None):
+        self.fn, self.update_period = fn, update_period
+
+    def reset(self):
+        pass
+
+    def __call__(self, observation: Observation) -> float:
+        return self.fn(observation)
+
+
 def copy_workflow(dest: Path) -> Path:
-    """Copy what Snakemake needs (Snakefile, workflow/, config/) into `dest`; return it."""
+    """Copy what Snakemake needs (workflow/, config/) into `dest`; return it."""
     dest.mkdir(parents=True, exist_ok=True)
-    shutil.copy(ROOT / "Snakefile", dest / "Snakefile")
     for folder in ("workflow", "config"):
         shutil.copytree(ROOT / folder, dest / folder, ignore=shutil.ignore_patterns("__pycache__"))
     return dest
@@ -82,3 +128,107 @@ def quick_run(tmp_path_factory) -> Path:
     result = snakemake(workdir, "-j2", "all", "benchmark", "--configfile", "config/quick.yaml")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
     return workdir
+
+
+def platform_from(section: dict) -> PlatformParams:
+    """A platform section (with or without `response`) as the plants take it."""
+    return parse(PlatformParams, {k: v for k, v in section.items() if k != "response"}, "platform")
+
+
+def solver_options(duration: float, step: float, output_step: float):
+    """Helicopter solver options with the config's Newton and generalized-alpha settings."""
+    from uavdamp.helicopter import SolverOptions
+
+    return SolverOptions(
+        duration=duration,
+        step=step,
+        output_step=output_step,
+        spectral_radius=0.8,
+        newton_tolerance=1e-6,
+        newton_absolute_tolerance=1e-8,
+    )
+
+
+def helicopter_of(section: dict):
+    """The helicopter section (with or without the analyses' options) as a typed run."""
+    from uavdamp.helicopter import HelicopterRun, HelicopterSection
+    from uavdamp.settings import keys
+
+    run_keys = set(keys(HelicopterRun))
+    cls = HelicopterSection if set(section) > run_keys else HelicopterRun
+    return parse(cls, section, "helicopter")
+
+
+def camera_of(section: dict):
+    """The camera section, typed."""
+    from uavdamp.camera import CameraModel
+
+    return parse(CameraModel, section, "camera")
+
+
+def study_options_of(section: dict):
+    """The study runs' options from a study section (or its runs' view), with the camera section (if given as the
+    `camera` key) attached, as the study job builds them."""
+    from dataclasses import replace
+
+    from uavdamp.settings import keys, view
+    from uavdamp.study import StudyOptions
+
+    options = parse(StudyOptions, view(section, StudyOptions), "study")
+    extra = sorted(set(section) - set(keys(StudyOptions)) - {"camera", "cases", "duration_s", "highpass_hz", "figures"})
+    assert not extra, f"unknown study keys {extra}"
+    return replace(options, camera=camera_of(section["camera"])) if "camera" in section else options
+
+
+def synthetic_grid(values: np.ndarray, windows=("transient",)) -> xr.Dataset:
+    """A grid dataset whose criteria are `values` (criteria..., window..., f_y, f_z, K, C) or (f_y, f_z, K, C)."""
+    values = values.reshape((-1, len(windows), *values.shape[-4:]))
+    shape = values.shape[-4:]
+    spec = GridSpec(
+        freq_y=np.arange(1.0, shape[0] + 1),
+        freq_z=np.arange(1.0, shape[1] + 1),
+        stiffness=np.geomspace(10, 1000, shape[2]),
+        damping=np.geomspace(0.1, 10, shape[3]),
+        amplitude=1e-3,
+        duration=1.0,
+        windows={w: (0.0, 1.0) for w in windows},
+    )
+    names = list(criteria.CRITERIA)[: values.shape[0]]
+    data = {
+        criteria.variable(n): (("window", *DIMS), v, criteria.CRITERIA[n]) for n, v in zip(names, values, strict=True)
+    }
+    failed = np.isnan(values).any(axis=(0, 1)).astype(np.int8)
+    return xr.Dataset(
+        {**data, "failed": (DIMS, failed, {"units": "1", "long_name": "f"})},
+        coords={**spec.coords(), **spec.window_coords()},
+    )
+
+
+def displacement_grid(values: np.ndarray) -> xr.Dataset:
+    """A grid dataset whose displacement criterion is `values` (f_y, f_z, K, C) in one window."""
+    shape = values.shape
+    spec = GridSpec(
+        freq_y=np.arange(1.0, shape[0] + 1),
+        freq_z=np.arange(1.0, shape[1] + 1),
+        stiffness=np.array([10.0, 20.0, 50.0, 100.0][: shape[2]]),
+        damping=np.array([1.0, 2.0, 4.0, 8.0, 16.0][: shape[3]]),
+        amplitude=1e-3,
+        duration=1.0,
+        windows={"transient": (0.0, 1.0)},
+    )
+    data = {criteria.variable("displacement"): (("window", *DIMS), values[None], criteria.CRITERIA["displacement"])}
+    failed = np.isnan(values).astype(np.int8)
+    return xr.Dataset(
+        {**data, "failed": (DIMS, failed, {"units": "1", "long_name": "f"})},
+        coords={**spec.coords(), **spec.window_coords()},
+    )
+
+
+def excitation_options(cases: dict, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]):
+    """The excitation stage's options: `cases` (config mappings) over `duration` s, high-passed, the dominant line
+    read in `band_hz` (the tracker's band; the rest of the tracker as in config/config.yaml)."""
+    from uavdamp.excitation import ExcitationOptions
+
+    tracking = {**load_config()["study"]["tracking"], "min_freq_hz": band_hz[0], "max_freq_hz": band_hz[1]}
+    section = {"cases": cases, "duration_s": duration, "highpass_hz": highpass_hz, "tracking": tracking}
+    return parse(ExcitationOptions, section, "study")

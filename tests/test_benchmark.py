@@ -1,33 +1,37 @@
-"""The controller benchmark (issue 13): scenarios, the split, tuning on the tuning set only, the quick benchmark."""
+"""The controller benchmark: scenarios, the split, tuning on the tuning set only, the quick benchmark."""
+
+from dataclasses import replace
 
 import numpy as np
 import pytest
-from conftest import load_config
+from conftest import load_config, typed_config
 
-from uavdamp import benchmark, io, learning, scenarios
-from uavdamp.linear_plant import LinearPlant
+from uavdamp import benchmark, io, scenarios
+from uavdamp.anfis import DampingModel
 from uavdamp.platform import PlatformParams
+from uavdamp.platform.linear_plant import LinearPlant
+from uavdamp.settings import ConfigError, parse
 
-CONFIG = load_config("quick.yaml")
-BENCH = CONFIG["benchmark"]
-BENCH_CONTROLLERS = BENCH["controllers"]
-HELI = {k: v for k, v in CONFIG["helicopter"].items() if k not in ("spectrum", "campbell", "sensitivity")}
+CONFIG = typed_config("quick.yaml")
+BENCH = CONFIG.benchmark
+SPLIT = BENCH.split
+BENCH_CONTROLLERS = BENCH.controllers
 
 
 @pytest.fixture(scope="module")
 def params() -> PlatformParams:
-    return PlatformParams.from_config({k: v for k, v in CONFIG["platform"].items() if k != "response"})
+    return CONFIG.platform
 
 
 @pytest.fixture(scope="module")
 def options() -> benchmark.BenchmarkOptions:
-    return benchmark.BenchmarkOptions.from_config(BENCH, CONFIG["study"]["tracking"], CONFIG["camera"])
+    return replace(BENCH, tracking=CONFIG.study.tracking, camera=CONFIG.camera)
 
 
 @pytest.fixture(scope="module")
 def inputs(params) -> dict:
     names = scenarios.scenario_specs(BENCH)
-    return {name: scenarios.scenario_input(name, BENCH, HELI, params.time_step) for name in names}
+    return {name: scenarios.scenario_input(name, BENCH, CONFIG.helicopter, params.time_step) for name in names}
 
 
 def test_split_is_seeded_complete_and_has_both_sets():
@@ -36,12 +40,12 @@ def test_split_is_seeded_complete_and_has_both_sets():
     assert first == scenarios.split(list(reversed(names)), 0.3, 7)  # seeded, independent of the order given
     assert sorted(first) == sorted(names) and sum(v == "tuning" for v in first.values()) == 3
     assert set(scenarios.split(names[:2], 0.01, 7).values()) == {"tuning", "evaluation"}
-    with pytest.raises(ValueError, match="tuning_fraction: must be in"):
-        scenarios.split(names, 1.0, 7)
+    with pytest.raises(ConfigError, match=r"benchmark.split.tuning_fraction: must lie in \(0, 1\)"):
+        parse(scenarios.Split, {"tuning_fraction": 1.0, "seed": 7}, "benchmark.split")
 
 
 def test_scenario_names_and_synthetic_inputs(params):
-    specs = scenarios.scenario_specs(load_config()["benchmark"])
+    specs = scenarios.scenario_specs(typed_config().benchmark)
     assert len([n for n in specs if n.startswith("heli_")]) == 2 * 3 * 2
     assert specs["heli_m0.5_r1.1_tail_on"] == {
         "kind": "helicopter",
@@ -64,18 +68,15 @@ def test_scenario_names_and_synthetic_inputs(params):
         {"kind": "sweep", "freq_hz": [3.0, 12.0]}, duration=4.0, amplitude=amplitude, time_step=h
     )
     assert y[0] == pytest.approx(0.0, abs=1e-12) and np.abs(y).max() == pytest.approx(amplitude, rel=1e-3)
-    with pytest.raises(ValueError, match="benchmark.synthetic.x.kind: must be one of"):
-        scenarios.scenario_specs(
-            {
-                "helicopter": {"imbalance_mass_factor": [], "rotor_speed_ratio": [], "tail_rotor": []},
-                "synthetic": [{"name": "x", "kind": "noise"}],
-            }
-        )
+    with pytest.raises(ConfigError, match=r"benchmark.synthetic\[0\].kind: must be one of"):
+        parse(scenarios.Synthetic, {"name": "x", "kind": "noise"}, "benchmark.synthetic[0]")
+    with pytest.raises(ConfigError, match=r"benchmark.synthetic\[0\].seed: kind 'random' takes"):
+        parse(scenarios.Synthetic, {"name": "x", "kind": "random", "band_hz": [4.0, 9.0]}, "benchmark.synthetic[0]")
 
 
 def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, options):
     """Every plant run during tuning has a tuning scenario's input: none of an evaluation scenario."""
-    split = scenarios.split(list(inputs), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    split = scenarios.split(list(inputs), SPLIT.tuning_fraction, SPLIT.seed)
     seen = []
     original = LinearPlant.run
 
@@ -98,10 +99,10 @@ def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, o
 def test_quick_benchmark(inputs, params, options, quick_run, tmp_path):
     """The quick config's benchmark in one process on the table and model the quick run wrote: tune, run every
     controller, gather, write."""
-    split = scenarios.split(list(inputs), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    split = scenarios.split(list(inputs), SPLIT.tuning_fraction, SPLIT.seed)
     tuned = benchmark.tune({n: inputs[n] for n in inputs if split[n] == "tuning"}, params, options)
     table = io.open_dataset(quick_run / "reports/reference_table/table.nc")
-    model = learning.TableModel.from_dataset(io.open_dataset(quick_run / "reports/anfis/model.nc"))
+    model = DampingModel.from_dataset(io.open_dataset(quick_run / "reports/anfis/model.nc"))
     runs = [benchmark.run_scenario(inputs[n], tuned, params, options, model=model, table=table) for n in inputs]
     ds = benchmark.gather(runs, split, tuned)
     assert ds.J.dims == ("scenario", "controller", "stiffness", "criterion", "damper")
@@ -113,7 +114,9 @@ def test_quick_benchmark(inputs, params, options, quick_run, tmp_path):
     assert np.all(np.isnan(ds.peak_damper_force.sel(controller="rigid")))
     evaluation = [n for n in inputs if split[n] == "evaluation"]
     np.testing.assert_allclose(ds.J_worst, ds.J.sel(scenario=evaluation).max("scenario"))
-    io.write_netcdf(ds, tmp_path / "criteria.nc", {"benchmark": BENCH}, section="benchmark")
+    io.write_netcdf(
+        ds, tmp_path / "criteria.nc", {"benchmark": load_config("quick.yaml")["benchmark"]}, section="benchmark"
+    )
     assert set(io.open_dataset(tmp_path / "criteria.nc").set.values) == {"tuning", "evaluation"}
 
 
@@ -126,7 +129,7 @@ def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
         workdir, "-n", "reports/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml", timeout=300
     )
     assert result.returncode == 0, result.stderr[-3000:]
-    split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    split = scenarios.split(scenarios.scenario_specs(BENCH), SPLIT.tuning_fraction, SPLIT.seed)
     wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}
     found = {w.strip(",") for w in result.stdout.split() if w.startswith("reports/benchmark/scenarios/")}
     assert found == wanted
@@ -136,7 +139,7 @@ def test_benchmark_target_runs_end_to_end(quick_run):
     """`snakemake benchmark` on the quick config from a clean folder, upstream included (the session's quick run):
     criteria.nc holds every controller, scenario and criterion, and the table lookup ran on the real table."""
     ds = io.open_dataset(quick_run / "reports/benchmark/criteria.nc")
-    split = scenarios.split(scenarios.scenario_specs(BENCH), BENCH["split"]["tuning_fraction"], BENCH["split"]["seed"])
+    split = scenarios.split(scenarios.scenario_specs(BENCH), SPLIT.tuning_fraction, SPLIT.seed)
     assert sorted(ds.scenario.values) == sorted(split)
     assert list(ds.controller.values) == list(BENCH_CONTROLLERS)
     assert np.all(np.isfinite(ds.J.sel(controller="table_lookup", criterion="displacement_std")))

@@ -11,6 +11,12 @@ import yaml
 from scipy.spatial.transform import Rotation
 
 from uavdamp.camera import CameraModel, image_displacement_px
+from uavdamp.settings import parse
+
+
+def parse_camera(section) -> CameraModel:
+    return parse(CameraModel, section, "camera")
+
 
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
 
@@ -29,11 +35,11 @@ def _section(**change) -> dict:
     return {k: v for k, v in section.items() if v is not None}
 
 
-CAMERA = CameraModel.from_config(_section())
+CAMERA = parse_camera(_section())
 
 
 def test_config_section_parses_and_derives_focal_px_and_nyquist():
-    cam = CameraModel.from_config(yaml.safe_load(CONFIG.read_text())["camera"])
+    cam = parse_camera(yaml.safe_load(CONFIG.read_text())["camera"])
     assert cam.focal_px == pytest.approx(6.0e-3 / 2.9e-6, rel=1e-12)
     assert cam.nyquist_cycles_per_m == pytest.approx(1.0 / (2 * 2.9e-6), rel=1e-12)
     assert cam.line_time_s == 0.0 and cam.sharp_threshold_px == 1.0
@@ -44,8 +50,8 @@ def test_config_section_parses_and_derives_focal_px_and_nyquist():
 @pytest.mark.parametrize(
     ("change", "message"),
     [
-        ({"exposure_s": None}, r"camera: missing key 'exposure_s'"),
-        ({"colour": "rgb"}, r"camera: unknown key\(s\) \['colour'\]"),
+        ({"exposure_s": None}, r"camera.exposure_s: missing key"),
+        ({"colour": "rgb"}, r"camera.colour: unknown key"),
         ({"focal_length_m": -6e-3}, r"camera\.focal_length_m must be a finite number > 0"),
         ({"scene_distance_m": math.inf}, r"camera\.scene_distance_m: expected a finite number"),
         ({"image_width_px": 1920.5}, r"camera\.image_width_px: expected an integer"),
@@ -59,7 +65,7 @@ def test_config_section_parses_and_derives_focal_px_and_nyquist():
 )
 def test_bad_config_names_the_key(change, message):
     with pytest.raises(ValueError, match=message):
-        CameraModel.from_config(_section(**change))
+        parse_camera(_section(**change))
 
 
 def test_signs_follow_the_raster_convention():

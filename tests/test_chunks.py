@@ -9,7 +9,9 @@ import shutil
 import pytest
 from conftest import snakemake
 
-from uavdamp import chunks, grid, io
+from uavdamp import io
+from uavdamp.reference_table import GridSpec, ReferenceGrid, chunks, grid
+from uavdamp.settings import parse, view
 
 
 def _hold(path, ready, release):
@@ -60,13 +62,8 @@ def _config(quick_run, path):
 
 
 def _points(quick_config, name):
-    spec = grid.GridSpec.from_config(
-        {
-            k: v
-            for k, v in quick_config["reference_table"].items()
-            if k not in ("n_chunks", "threads", "flat_tolerance", "verify")
-        }
-    )
+    section = quick_config["reference_table"]
+    spec = GridSpec.of(parse(ReferenceGrid, view(section, ReferenceGrid), "reference_table"))
     i, n = (int(v) for v in name.removesuffix(".nc").split("-of-"))
     return grid.chunk_points(spec, n, i - 1)
 

@@ -2,18 +2,18 @@
 
 import numpy as np
 import pytest
-from conftest import load_config
+from conftest import load_config, platform_from
 
 from uavdamp import clairvoyant, laws
 from uavdamp.excitation import sine_input
-from uavdamp.linear_plant import LinearPlant
-from uavdamp.platform import PlatformParams
+from uavdamp.laws import Constant
+from uavdamp.platform.linear_plant import LinearPlant
 
 
 @pytest.fixture(scope="module")
 def plant() -> LinearPlant:
     section = {k: v for k, v in load_config("quick.yaml")["platform"].items() if k != "response"}
-    return LinearPlant.from_params(PlatformParams.from_config(section))
+    return LinearPlant.from_params(platform_from(section))
 
 
 def _criterion(response, criterion: str) -> float:
@@ -51,7 +51,7 @@ def test_clairvoyant_is_never_worse_than_any_fixed_candidate(plant, stiffness, c
         assert found.cost <= fixed * (1 + 1e-9)
     np.testing.assert_allclose(
         found.constant_costs,
-        [_criterion(plant.run(time, y, z, stiffness=stiffness, law=c), criterion) for c in candidates],
+        [_criterion(plant.run(time, y, z, stiffness=stiffness, law=Constant(c)), criterion) for c in candidates],
         rtol=1e-9,
     )
 

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import excitation_options
 
 from uavdamp import excitation
 
@@ -35,9 +36,10 @@ def fake_run(duration=6.0):
 
 
 def cases(reading, scaling, amplitude=1.3e-3):
-    case = {"run": "imbalanced", "amplitude": amplitude, "amplitude_reading": reading, "amplitude_scaling": scaling}
+    case = {"run": "imbalanced", "amplitude_m": amplitude, "amplitude_reading": reading, "amplitude_scaling": scaling}
     return excitation.cases_dataset(
-        {"imbalanced": fake_run()}, {"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ
+        {"imbalanced": fake_run()},
+        excitation_options({"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ),
     ).sel(case="a")
 
 
@@ -82,9 +84,10 @@ def test_common_scaling_keeps_the_helicopters_ratio(reading):
     ("key", "value"), [("amplitude_reading", "rms"), ("amplitude_scaling", "by_y"), ("amplitude_reading", None)]
 )
 def test_bad_reading_or_scaling_is_refused_naming_the_key(key, value):
-    case = {"run": "imbalanced", "amplitude": 1e-3, "amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
+    case = {"run": "imbalanced", "amplitude_m": 1e-3, "amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
     case = {k: v for k, v in {**case, key: value}.items() if v is not None}
     with pytest.raises(ValueError, match=f"study.cases.a.{key}"):
         excitation.cases_dataset(
-            {"imbalanced": fake_run()}, {"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ
+            {"imbalanced": fake_run()},
+            excitation_options({"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ),
         )

@@ -6,11 +6,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 import xarray as xr
-from test_mutants_criterion import synthetic_grid
+from conftest import displacement_grid as synthetic_grid
 
-from uavdamp import criterion
 from uavdamp.plots.helicopter import fuselage_vibration_figure
 from uavdamp.plots.reference_table import reference_table_figure
+from uavdamp.reference_table import criteria as criterion
 
 
 def test_reference_table_figure_shows_the_table():

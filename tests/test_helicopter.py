@@ -6,13 +6,14 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from conftest import helicopter_of, solver_options
 
-from uavdamp import helicopter as H
+from uavdamp.helicopter import model as H
 
 
 @pytest.fixture(scope="module")
 def heli(default_config) -> H.Helicopter:
-    return H.Helicopter.from_config(default_config["helicopter"])
+    return helicopter_of(default_config["helicopter"])
 
 
 def hinged_blade_frequencies(heli: H.Helicopter) -> np.ndarray:
@@ -52,7 +53,7 @@ def test_blade_frequencies_match_closed_form(heli, lag_stiffness):
 
 
 def test_balanced_rotor_vibrates_a_million_times_less(heli):
-    options = H.SolverOptions(duration=2.0, step=0.002, output_step=0.004)
+    options = solver_options(duration=2.0, step=0.002, output_step=0.004)
     imbalanced = H.run(heli, options).displacement.sel(axis=["y", "z"])
     balanced = H.run(heli.balanced(), options).displacement.sel(axis=["y", "z"])
     ratio = float(np.abs(balanced).max() / np.abs(imbalanced).max())
@@ -61,7 +62,7 @@ def test_balanced_rotor_vibrates_a_million_times_less(heli):
 
 
 def test_rotor_angle_exact_after_50_s(heli):
-    ds = H.run(heli, H.SolverOptions(duration=50.0, step=0.0025, output_step=0.005))
+    ds = H.run(heli, solver_options(duration=50.0, step=0.0025, output_step=0.005))
     assert float(ds.time[-1]) == pytest.approx(50.0)
     assert abs(ds.attrs["rotor_angle_error_rad"]) < 1e-8
 
@@ -75,12 +76,12 @@ def test_initial_velocity_cancels_rotor_momentum(heli):
 def test_total_linear_momentum_stays_zero(heli):
     """Zero at t = 0 by construction; afterwards only the integrator's error (no external force)."""
     model = H.build(heli, momentum_sensors=True)
-    H.solve(model, H.SolverOptions(duration=3.0, step=0.001, output_step=0.005))
+    H.solve(model, solver_options(duration=3.0, step=0.001, output_step=0.005))
     time, momentum = H.linear_momentum(model)
     main = heli.main_rotor
     rotor_scale = (
         main.blade_mass
-        * (1 - heli.imbalance_mass_factor)
+        * (1 - heli.imbalance.mass_factor)
         * main.omega_rad_s
         * (main.hinge_offset + main.blade_length / 2)
     )  # kg m/s the imbalance carries
@@ -90,35 +91,38 @@ def test_total_linear_momentum_stays_zero(heli):
 
 def test_invalid_parameters_are_named(default_config):
     cfg = default_config["helicopter"]
-    bad = {**cfg, "fuselage": {**cfg["fuselage"], "mass": -1.0}}
+    bad = {**cfg, "fuselage": {**cfg["fuselage"], "mass_kg": -1.0}}
     with pytest.raises(ValueError, match="fuselage.mass"):
-        H.Helicopter.from_config(bad)
+        helicopter_of(bad)
     bad = {**cfg, "imbalance": {**cfg["imbalance"], "blade": 7}}
     with pytest.raises(ValueError, match="imbalance.blade"):
-        H.Helicopter.from_config(bad)
-    with pytest.raises(ValueError, match="output_step"):
-        H.SolverOptions(duration=1.0, step=0.002, output_step=0.005)
+        helicopter_of(bad)
+    solver = {**cfg["solver"], "step_s": 0.002, "output_step_s": 0.005}
+    with pytest.raises(ValueError, match=r"helicopter\.solver\.output_step_s: 0\.005 s must be a whole multiple"):
+        helicopter_of({**cfg, "solver": solver})
 
 
 @pytest.mark.parametrize("rotor", ["main_rotor", "tail_rotor"])
 def test_blade_radius_of_gyration_longer_than_the_blade_is_refused(default_config, rotor):
     """The paper prints Ix = Iz = 12.48 kg m2 for the 6.212 kg, 0.982 m tail blade: sqrt(12.48 / 6.212) = 1.42 m."""
     cfg = default_config["helicopter"]
-    tail = {**cfg["tail_rotor"], "blade_inertia": [12.48, 0.015, 12.48]}
-    with pytest.raises(ValueError, match=r"tail_rotor.blade_inertia: 12.48 kg m2 gives a radius of gyration 1.42 m"):
-        H.Helicopter.from_config({**cfg, "tail_rotor": tail})
+    tail = {**cfg["tail_rotor"], "blade_inertia_kg_m2": [12.48, 0.015, 12.48]}
+    with pytest.raises(
+        ValueError, match=r"tail_rotor.blade_inertia_kg_m2: 12.48 kg m2 gives a radius of gyration 1.42 m"
+    ):
+        helicopter_of({**cfg, "tail_rotor": tail})
     blade = cfg[rotor]
-    length = blade["blade_length"]
-    inertia = blade["blade_mass"] * (1.01 * length) ** 2
-    bad = {**cfg, rotor: {**blade, "blade_inertia": [inertia, blade["blade_inertia"][1], inertia]}}
-    with pytest.raises(ValueError, match=f"{rotor}.blade_inertia"):
-        H.Helicopter.from_config(bad)
-    rod = blade["blade_mass"] * length**2 / 12  # a uniform rod is accepted
-    H.Helicopter.from_config({**cfg, rotor: {**blade, "blade_inertia": [rod, blade["blade_inertia"][1], rod]}})
+    length = blade["blade_length_m"]
+    inertia = blade["blade_mass_kg"] * (1.01 * length) ** 2
+    bad = {**cfg, rotor: {**blade, "blade_inertia_kg_m2": [inertia, blade["blade_inertia_kg_m2"][1], inertia]}}
+    with pytest.raises(ValueError, match=f"{rotor}.blade_inertia_kg_m2"):
+        helicopter_of(bad)
+    rod = blade["blade_mass_kg"] * length**2 / 12  # a uniform rod is accepted
+    helicopter_of({**cfg, rotor: {**blade, "blade_inertia_kg_m2": [rod, blade["blade_inertia_kg_m2"][1], rod]}})
 
 
 def test_config_tail_blade_is_a_uniform_rod(default_config):
     tail = default_config["helicopter"]["tail_rotor"]
-    rod = tail["blade_mass"] * tail["blade_length"] ** 2 / 12
-    assert tail["blade_inertia"][0] == pytest.approx(rod, rel=1e-3)
-    assert tail["blade_inertia"][2] == pytest.approx(rod, rel=1e-3)
+    rod = tail["blade_mass_kg"] * tail["blade_length_m"] ** 2 / 12
+    assert tail["blade_inertia_kg_m2"][0] == pytest.approx(rod, rel=1e-3)
+    assert tail["blade_inertia_kg_m2"][2] == pytest.approx(rod, rel=1e-3)

@@ -7,18 +7,17 @@ import math
 
 import numpy as np
 import pytest
-from conftest import load_config
-from test_platform import CONFIG, FunctionLaw
+from conftest import PLATFORM as CONFIG
+from conftest import FunctionLaw, camera_of, load_config, platform_from
 
-from uavdamp import criterion as crit
 from uavdamp import image_quality as iq
-from uavdamp import linear_plant
-from uavdamp.camera import CameraModel
 from uavdamp.excitation import sine_input
-from uavdamp.laws import Schedule
-from uavdamp.linear_plant import LinearPlant, linearise, pair_criteria, sine_criteria
-from uavdamp.platform import ExudynPlant
-from uavdamp.statespace import StateSpace, discretise, lift, propagate
+from uavdamp.laws import Constant, Schedule
+from uavdamp.platform import ExudynPlant, linear_plant
+from uavdamp.platform.linear_plant import LinearPlant, linearise
+from uavdamp.platform.statespace import StateSpace, discretise, free_response_rows, lift, propagate, sine_outputs
+from uavdamp.reference_table import criteria as crit
+from uavdamp.reference_table.sine_batch import pair_criteria, sine_criteria
 
 
 def with_step(h: float) -> dict:
@@ -28,13 +27,13 @@ def with_step(h: float) -> dict:
 
 @pytest.fixture(scope="module")
 def isolated():
-    sim = ExudynPlant(CONFIG, mount="isolated")
+    sim = ExudynPlant(platform_from(CONFIG), mount="isolated")
     return sim, LinearPlant(sim.model)
 
 
 @pytest.fixture(scope="module")
 def rigid():
-    sim = ExudynPlant(CONFIG, mount="rigid")
+    sim = ExudynPlant(platform_from(CONFIG), mount="rigid")
     return sim, LinearPlant(sim.model)
 
 
@@ -50,7 +49,7 @@ def criterion_of(ds) -> float:
 def test_undamped_eigenvalues_equal_exudyn_eigen_analysis(isolated, stiffness):
     sim, plant = isolated
     time, y, z = sine_input(5.0, 5.0, 1e-4, 0.01, sim.params.time_step)
-    sim.run(time, y, z, stiffness=stiffness, law=1.0)  # eigen() sees the last run's K
+    sim.run(time, y, z, stiffness=stiffness, law=Constant(1.0))  # eigen() sees the last run's K
     expected, _ = sim.eigen()
     np.testing.assert_allclose(plant.model.undamped_frequencies(stiffness), expected, rtol=1e-9)
 
@@ -79,7 +78,7 @@ def test_camera_output_map_is_the_small_angle_closed_form(request, fixture):
 
 
 def test_linearise_leaves_the_exudyn_plant_unchanged():
-    sim = ExudynPlant(CONFIG)
+    sim = ExudynPlant(platform_from(CONFIG))
     time, y, z = sine_input(7.0, 8.0, 1.3e-3, 0.4, sim.params.time_step)
     before = sim.run(time, y, z, stiffness=100.0, law=Schedule([3.0, 30.0], 0.2))
     linearise(sim.model)
@@ -94,9 +93,9 @@ def test_linearise_leaves_the_exudyn_plant_unchanged():
 @pytest.mark.parametrize(
     "stiffness, damping, freq_hz",
     [
-        (10.0, 2.0, (7.0, 8.0)),
-        (1000.0, 20.0, (7.0, 8.0)),
-        (3000.0, 50.0, (4.0, 11.0)),
+        (10.0, [2.0], (7.0, 8.0)),
+        (1000.0, [20.0], (7.0, 8.0)),
+        (3000.0, [50.0], (4.0, 11.0)),
         (100.0, [2.0, 60.0], (7.0, 8.0)),
     ],
 )
@@ -104,8 +103,8 @@ def test_camera_response_matches_exudyn(isolated, stiffness, damping, freq_hz):
     """Within 0.5 % in the criterion, incl. a damping change at the 0.5 s update; the same variables."""
     sim, plant = isolated
     time, y, z = sine_input(*freq_hz, 1.3e-3, 1.5, sim.params.time_step)
-    ref = sim.run(time, y, z, stiffness=stiffness, law=damping)
-    lin = plant.run(time, y, z, stiffness=stiffness, law=damping)
+    ref = sim.run(time, y, z, stiffness=stiffness, law=Schedule(damping))
+    lin = plant.run(time, y, z, stiffness=stiffness, law=Schedule(damping))
     assert criterion_of(lin) == pytest.approx(criterion_of(ref), rel=5e-3)
     assert set(lin.data_vars) == set(ref.data_vars) and set(lin.coords) == set(ref.coords)
     np.testing.assert_array_equal(lin.damping.values, ref.damping.values)
@@ -127,20 +126,20 @@ def test_gap_after_a_damping_switch_is_first_order_in_the_step():
     """C 2 -> 60 N s/m at 0.5 s: Exudyn's camera lags the exact switch by an error that halves with its step."""
     gaps = []
     for h in (2e-3, 1e-3):
-        sim = ExudynPlant(with_step(h))
+        sim = ExudynPlant(platform_from(with_step(h)))
         plant = LinearPlant(sim.model)
         time, y, z = sine_input(7.0, 8.0, 1.3e-3, 0.8, h)
-        ref, lin = (p.run(time, y, z, stiffness=100.0, law=[2.0, 60.0]) for p in (sim, plant))
+        ref, lin = (p.run(time, y, z, stiffness=100.0, law=Schedule([2.0, 60.0])) for p in (sim, plant))
         gaps.append(float(np.abs(lin.camera_displacement - ref.camera_displacement).max()))
     assert gaps[1] == pytest.approx(gaps[0] / 2, rel=0.15), gaps
 
 
 def gap(h: float, amplitude: float, freq_hz: tuple, stiffness: float, damping: float) -> float:
     """Relative criterion difference linear vs Exudyn at step h (s) for a sine pair of `amplitude` (m)."""
-    sim = ExudynPlant(with_step(h))
+    sim = ExudynPlant(platform_from(with_step(h)))
     plant = LinearPlant(sim.model)
     time, y, z = sine_input(*freq_hz, amplitude, 1.0, h)
-    ref, lin = (p.run(time, y, z, stiffness=stiffness, law=damping) for p in (sim, plant))
+    ref, lin = (p.run(time, y, z, stiffness=stiffness, law=Constant(damping)) for p in (sim, plant))
     return abs(criterion_of(lin) / criterion_of(ref) - 1)
 
 
@@ -196,7 +195,7 @@ def test_decision_function_sees_what_it_sees_in_exudyn(isolated):
 
 
 def test_switching_every_step_between_two_levels_costs_two_discretisations(monkeypatch):
-    sim = ExudynPlant(CONFIG)
+    sim = ExudynPlant(platform_from(CONFIG))
     plant = LinearPlant(sim.model)
     calls = []
     real = linear_plant.discretise
@@ -237,7 +236,7 @@ def test_batched_sine_grid_equals_per_point_runs(isolated, stiffness, damping):
     solver = dataclasses.replace(sim.params.solver, time_step=h / sub)
     fine = dataclasses.replace(sim.model, params=dataclasses.replace(sim.params, solver=solver))
     fine_plant = LinearPlant(fine)
-    camera = CameraModel.from_config(load_config()["camera"])
+    camera = camera_of(load_config()["camera"])
     windows = {"transient": (0.0, 1.0), "steady": (0.4, 1.0)}
     freq_y, freq_z = np.array([4.0, 9.0]), np.array([5.0, 11.0, 12.0])
     batched = sine_criteria(plant, stiffness, damping, freq_y, freq_z, 1.3e-3, 1.0, windows, camera)
@@ -245,7 +244,9 @@ def test_batched_sine_grid_equals_per_point_runs(isolated, stiffness, damping):
     for iy, fy in enumerate(freq_y):
         for iz, fz in enumerate(freq_z):
             time, y, z = sine_input(fy, fz, 1.3e-3, 1.0, h / sub)
-            ds = fine_plant.run(time, y, z, stiffness=stiffness, law=damping).isel(time=slice(None, None, sub))
+            ds = fine_plant.run(time, y, z, stiffness=stiffness, law=Constant(damping)).isel(
+                time=slice(None, None, sub)
+            )
             for w, window in enumerate(windows.values()):
                 single = _independent_criteria(ds, window, camera)
                 for name, value in single.items():
@@ -287,6 +288,79 @@ def test_input_starting_away_from_zero_matches_exudyn(request, fixture):
     sim, plant = request.getfixturevalue(fixture)
     time, _, z = sine_input(3.0, 10.0, 1.3e-3, 1.0, sim.params.time_step)
     y = 1.3e-3 * np.cos(2 * np.pi * 3.0 * time)
-    ref, lin = (p.run(time, y, z, stiffness=300.0, law=5.0) for p in (sim, plant))
+    ref, lin = (p.run(time, y, z, stiffness=300.0, law=Constant(5.0)) for p in (sim, plant))
     assert criterion_of(lin) == pytest.approx(criterion_of(ref), rel=5e-3)
     np.testing.assert_allclose(lin.base_displacement.values[:, 0], [1.3e-3, 0.0], atol=1e-15)
+
+
+# ----------------------------------------------------------------------------------------------------
+# The linear plant's outputs and the state-space helpers against closed forms (issue 17 survivors).
+
+
+def test_sine_outputs_carry_the_feedthrough_of_u_and_v():
+    plant = StateSpace(a=np.array([[-1.0]]), b=np.zeros((1, 4)), c=np.zeros((2, 1)), du=np.eye(2), dv=np.eye(2))
+    h, steps = 0.01, np.arange(50)
+    free = free_response_rows(plant.c, np.exp(-h) * np.ones((1, 1)), steps.size)
+    freq = np.array([2.0, 3.5])
+    out = sine_outputs(plant, free, freq, 1, 1e-3, np.zeros((1, 2)), steps, h, [0, 1])
+    t = steps * h
+    w = 2 * np.pi * freq
+    np.testing.assert_allclose(out[:, 0, :], 0.0, atol=1e-18)  # y row: the input is on z
+    expected = 1e-3 * (np.sin(np.outer(t, w)) + w * np.cos(np.outer(t, w)))
+    np.testing.assert_allclose(out[:, 1, :], expected, rtol=1e-12, atol=1e-15)
+
+
+def test_free_response_rows_of_one_sample_and_of_a_block_boundary():
+    phi = np.array([[0.9, 0.1], [-0.2, 0.95]])
+    c = np.array([[1.0, 0.0], [0.5, -1.0]])
+    expected = [c @ np.linalg.matrix_power(phi, k) for k in range(70)]
+    np.testing.assert_allclose(free_response_rows(c, phi, 70, block=8), expected, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(free_response_rows(c, phi, 1), [c], rtol=0, atol=0)
+
+
+@pytest.fixture(scope="module")
+def plants():
+    return (
+        LinearPlant(ExudynPlant(platform_from(CONFIG), mount="isolated").model),
+        LinearPlant(ExudynPlant(platform_from(CONFIG), mount="rigid").model),
+    )
+
+
+def test_response_rows_are_the_input_and_the_stroke_rate(plants):
+    isolated, _ = plants
+    time, y, z = sine_input(7.0, 3.0, 1e-3, 0.6, 0.002)
+    ds = isolated.run(time, y, 0.5 * z, stiffness=200.0, law=Constant(5.0))
+    np.testing.assert_allclose(ds.mount_displacement.sel(axis="y"), y, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(ds.mount_displacement.sel(axis="z"), 0.5 * z, rtol=0, atol=1e-15)
+    stroke = (ds.base_displacement - ds.mount_displacement).values
+    rate = ds.isolator_velocity.values
+    central = (stroke[:, 2:] - stroke[:, :-2]) / (2 * 0.002)
+    scale = np.abs(rate).max()
+    assert np.abs(central - rate[:, 1:-1]).max() < 0.02 * scale  # O(h^2 w^2) = (0.002 * 44)^2 / 6 = 0.13 %
+    assert np.abs(ds.base_displacement.sel(axis="y") - y).max() > 1e-4  # the base moves on its isolator
+
+
+def test_the_isolator_stiffness_acts_only_on_the_isolated_mount(plants):
+    isolated, rigid = plants
+    np.testing.assert_allclose(
+        rigid.model.undamped_frequencies(500.0), rigid.model.undamped_frequencies(0.0), rtol=1e-12
+    )
+    assert not np.allclose(isolated.model.undamped_frequencies(500.0), isolated.model.undamped_frequencies(10.0))
+    time, y, z = sine_input(5.0, 6.0, 1e-3, 0.4, 0.002)
+    a = rigid.run(time, y, z, stiffness=10.0, law=Constant(1.0))
+    b = rigid.run(time, y, z, stiffness=900.0, law=Constant(1.0))
+    np.testing.assert_array_equal(a.camera_displacement.values, b.camera_displacement.values)
+    assert np.all(np.isnan(a.damping))
+
+
+def test_camera_angles_match_exudyn_time_stepping(plants):
+    """Yaw and pitch rows of the output map: the linear plant against Exudyn's run (its time-step error apart)."""
+    isolated, _ = plants
+    sim = ExudynPlant(platform_from(CONFIG), mount="isolated")
+    time, y, z = sine_input(5.3, 6.1, 1e-4, 0.6, 0.002)
+    lin = isolated.run(time, y, z, stiffness=300.0, law=Constant(5.0))
+    ref = sim.run(time, y, z, stiffness=300.0, law=Constant(5.0))
+    for name in ("camera_yaw", "camera_pitch"):
+        scale = np.abs(ref[name].values).max()
+        assert scale > 0, name
+        assert np.abs(lin[name].values - ref[name].values).max() < 0.02 * scale, name  # measured 0.4 %

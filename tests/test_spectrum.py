@@ -1,9 +1,14 @@
 """Spectrum helpers against signals of known content."""
 
+from __future__ import annotations
+
+import dataclasses
+import math
+
 import numpy as np
 import pytest
 
-from uavdamp import spectrum
+from uavdamp import spectrum, tracking
 
 
 def test_amplitude_of_a_bin_centred_sine():
@@ -126,3 +131,313 @@ def test_linear_detrend_keeps_a_drifting_signal_in_band():
     assert spectrum.dominant_frequency(x, 0.002, min_freq_hz=3.0, detrend="linear") == pytest.approx(4.1, rel=0.01)
     with pytest.raises(ValueError, match="detrend"):
         spectrum.amplitude_spectrum(x, 0.002, detrend="quadratic")
+
+
+# ----------------------------------------------------------------------------------------------------
+# Spectrum and tracking against closed forms (issue 17's planted bugs: the window, the peak refinement).
+
+HANN_HALF_BIN = math.sin(math.pi / 2) / (math.pi / 2) / (1 - 0.25)
+
+
+@pytest.mark.parametrize("bin_offset", [0.5, 0.25])
+def test_off_bin_sine_shows_the_hann_scalloping(bin_offset):
+    """Kills 'Hann replaced by a rectangular window': peak = A sinc(d) / (1 - d^2) for an offset of d bins."""
+    n, dt, amp = 4096, 1 / 1024, 3e-3
+    f0 = (300 + bin_offset) / (n * dt)
+    t = np.arange(n) * dt
+    freq, spectrum_amp = spectrum.amplitude_spectrum(amp * np.sin(2 * np.pi * f0 * t + 0.7) + 2.0, dt)
+    expected = amp * np.sinc(bin_offset) / (1 - bin_offset**2)
+    k = int(np.argmax(spectrum_amp))
+    assert k == 300 or (bin_offset == 0.5 and k == 301)
+    assert spectrum_amp[k] == pytest.approx(expected, rel=2e-4)
+    assert spectrum_amp[0] < 1e-3 * amp  # the offset 2.0 is removed (detrend="constant")
+    assert bin_offset != 0.5 or expected == pytest.approx(amp * HANN_HALF_BIN, rel=1e-12)
+
+
+def test_zero_padding_interpolates_the_same_spectrum():
+    """Zero padding by 4 puts bins at the quarter-bin offsets: there the Hann peak is sinc(1/4) / (1 - 1/16)."""
+    n, dt = 2048, 1 / 512
+    f0 = 200.25 / (n * dt)
+    t = np.arange(n) * dt
+    freq, amp = spectrum.amplitude_spectrum(np.sin(2 * np.pi * f0 * t), dt, zero_padding=4)
+    assert freq.size == 4 * n // 2 + 1 and freq[1] == pytest.approx(1 / (4 * n * dt), rel=1e-12)
+    k = int(np.argmax(amp))
+    assert freq[k] == pytest.approx(f0, rel=1e-12) and amp[k] == pytest.approx(1.0, rel=2e-4)
+
+
+def test_linear_detrend_removes_a_ramp_exactly():
+    """A pure straight line leaves nothing with detrend="linear"; with "constant" its slope leaks into the bins."""
+    t = np.arange(1000) * 0.01
+    _, amp = spectrum.amplitude_spectrum(0.3 + 2.0 * t, 0.01, detrend="linear")
+    assert np.max(amp) < 1e-12
+    _, leaked = spectrum.amplitude_spectrum(0.3 + 2.0 * t, 0.01, detrend="constant")
+    assert np.max(leaked[1:]) > 0.1
+    with pytest.raises(ValueError, match=r"detrend: must be one of \('constant', 'linear'\), got 'cubic'"):
+        spectrum.amplitude_spectrum(t, 0.01, detrend="cubic")
+    with pytest.raises(ValueError, match="zero_padding: must be >= 1, got 0"):
+        spectrum.amplitude_spectrum(t, 0.01, zero_padding=0)
+    with pytest.raises(ValueError, match="signal: need a 1-D array of at least 4 samples"):
+        spectrum.amplitude_spectrum(t[:3], 0.01)
+
+
+@pytest.mark.parametrize("f0", [3.37, 5.71])
+def test_the_tracker_refines_the_peak_of_a_short_window(f0):
+    """Kills 'the tracker's peak refinement switched off': a noise-free sine in a 0.5 s window.
+
+    The least-squares sine fit is exact for a noise-free sine up to its search tolerance (1e-5 f); the
+    interpolated Hann peak alone is biased by the negative-frequency image (0.2 % to 6 % here).
+    """
+    dt = 0.002
+    t = np.arange(0, 2 + dt / 2, dt)
+    x = np.sin(2 * np.pi * f0 * t + 0.4)
+    times, freq = spectrum.track_dominant(t, x, update_period=0.5, window=0.5, min_freq_hz=3.0, max_freq_hz=12.5)
+    np.testing.assert_allclose(times, [0.5, 1.0, 1.5, 2.0], rtol=1e-12)
+    np.testing.assert_allclose(freq, f0, rtol=2e-5)
+    single = spectrum.dominant_frequency_causal(t, x, 1.5, 0.5, min_freq_hz=3.0, max_freq_hz=12.5)
+    assert single == pytest.approx(f0, rel=2e-5)
+
+
+@pytest.mark.parametrize("f0", [3.37, 5.71, 7.013, 9.49])
+def test_the_interpolated_peak_beats_the_zero_padded_bin(f0):
+    """The log-parabola through three bins: within 1e-5 of f0 on 2 s of a clean sine (no interpolation: up to
+    half the zero-padded bin, 1 / (2 * 8 * 2 s) = 0.031 Hz, i.e. 0.3-1 %)."""
+    dt = 0.002
+    t = np.arange(1000) * dt
+    found = spectrum.dominant_frequency(np.sin(2 * np.pi * f0 * t + 0.4), dt, min_freq_hz=2.0)
+    assert found == pytest.approx(f0, rel=1e-5)
+
+
+def test_band_edges_and_nan_rules():
+    dt = 0.002
+    t = np.arange(1000) * dt
+    x = np.sin(2 * np.pi * 4.0 * t) + 0.5 * np.sin(2 * np.pi * 9.0 * t)
+    # the other line's sidelobe biases each peak by < 1e-3 relative here: the band, not the bias, is tested
+    assert spectrum.dominant_frequency(x, dt) == pytest.approx(4.0, rel=1e-3)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=6.0) == pytest.approx(9.0, rel=1e-3)
+    assert spectrum.dominant_frequency(x, dt, max_freq_hz=6.0) == pytest.approx(4.0, rel=1e-3)
+    assert math.isnan(spectrum.dominant_frequency(np.full(100, 3.0), dt))
+    assert math.isnan(spectrum.dominant_frequency(x, dt, min_freq_hz=5.01, max_freq_hz=5.05))  # bins every 1 / 16 Hz
+
+
+def test_required_span_and_update_times():
+    assert spectrum.required_span(1.0, 3.0, 2.0) == pytest.approx(2 / 3, rel=1e-15)
+    assert spectrum.required_span(0.5, 3.0, 2.0) == 0.5
+    assert spectrum.required_span(0.8, 0.0, 2.0) == 0.8
+    np.testing.assert_allclose(spectrum.update_times(2.0, 0.5), [0.5, 1.0, 1.5, 2.0], rtol=1e-15)
+    np.testing.assert_allclose(spectrum.update_times(1.49, 0.5), [0.5, 1.0], rtol=1e-15)
+    with pytest.raises(ValueError, match="update_period: must be positive, got 0.0"):
+        spectrum.update_times(2.0, 0.0)
+
+
+def test_causal_segment_takes_the_last_window_up_to_t_now():
+    """Samples (t_now - window, t_now]: round(window / dt) of them; fewer at the start if they span enough."""
+    dt = 0.01
+    t = np.arange(301) * dt
+    x = np.arange(301.0)
+    segment, step = spectrum.causal_segment(t, x, 2.0, 0.5)
+    assert step == pytest.approx(dt, rel=1e-12)
+    np.testing.assert_array_equal(segment, np.arange(151.0, 201.0))
+    early, _ = spectrum.causal_segment(t, x, 0.7, 1.0, min_freq_hz=3.0)  # needs 2 / 3 s: 71 samples span 0.71 s
+    np.testing.assert_array_equal(early, np.arange(0.0, 71.0))
+    assert spectrum.causal_segment(t, x, 0.6, 1.0, min_freq_hz=3.0) is None  # 0.61 s < 2 / 3 s
+    assert spectrum.causal_segment(t[:3], x[:3], 0.02, 1.0) is None
+    with pytest.raises(ValueError, match="time: the sampling must be uniform"):
+        spectrum.causal_segment(np.r_[t[:150], t[150:] + 0.001], x, 2.0, 1.0)
+    with pytest.raises(ValueError, match="window: must be positive, got 0"):
+        spectrum.causal_segment(t, x, 2.0, 0)
+
+
+# ------------------------------------------------------------------- tracking.py: ESPRIT and the options
+# ESPRIT lines and the tracker's options against closed forms and exact messages (issue 17 survivors).
+#
+# Noise-free sums of sines plus a straight line are exactly the ESPRIT model, so the lines' frequencies and
+# amplitudes come back to round-off (1e-9 here), however close the lines: 5 and 5.6 Hz in a 1 s window, which a
+# Hann FFT blends into one peak.
+
+DT = 0.002
+T = np.arange(500) * DT  # 1 s
+TWO_LINES = 2 * np.sin(2 * np.pi * 5 * T + 0.3) + 0.7 * np.sin(2 * np.pi * 5.6 * T + 1.1) + 0.1 + 0.03 * T
+
+
+def test_esprit_resolves_two_close_lines_with_their_amplitudes():
+    freq, amp = tracking.esprit_lines(TWO_LINES, DT, 2)
+    np.testing.assert_allclose(freq, [5.0, 5.6], rtol=1e-9)
+    np.testing.assert_allclose(amp, [2.0, 0.7], rtol=1e-9)
+
+
+def test_esprit_dominant_band_edges_are_inclusive_and_constant_segments_are_nan():
+    assert tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=3, max_freq_hz=12) == pytest.approx(
+        5.0, rel=1e-9
+    )
+    assert tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=5.3, max_freq_hz=12) == pytest.approx(
+        5.6, rel=1e-9
+    )
+    f_low = tracking.esprit_lines(TWO_LINES, DT, 2)[0][0]
+    assert tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=f_low, max_freq_hz=f_low) == f_low
+    assert np.isnan(tracking.esprit_dominant(TWO_LINES, DT, model_order=2, min_freq_hz=7, max_freq_hz=12))
+    flat = np.full(500, 0.25)
+    flat[0] = 0.25
+    assert np.isnan(tracking.esprit_dominant(flat, DT, model_order=2, min_freq_hz=3, max_freq_hz=12))
+    step = np.r_[0.0, np.ones(499)]  # only the first sample differs: not constant
+    assert not np.isnan(tracking.esprit_dominant(step + TWO_LINES, DT, model_order=2, min_freq_hz=3, max_freq_hz=12))
+
+
+def test_esprit_needs_enough_samples_for_its_model_order():
+    """Hankel rows N // 2 must reach 2 p + 2 exponentials + 2: p = 2 needs 8 rows, i.e. N = 16 samples."""
+    x = TWO_LINES[:16]
+    tracking.esprit_lines(x, DT, 2)
+    with pytest.raises(
+        ValueError,
+        match=r"^study\.tracking\.model_order: 2 sinusoids need more than 15 samples in "
+        r"the window$",
+    ):
+        tracking.esprit_lines(x[:15], DT, 2)
+
+
+def test_frequency_causal_fft_is_spectrum_with_the_options_band():
+    options = tracking.TrackerOptions(
+        method="fft",
+        model_order=2,
+        window=1.0,
+        min_freq_hz=3.0,
+        max_freq_hz=5.3,
+        min_cycles=1.5,
+        zero_padding=8,
+        initial_freq_hz=7.0,
+    )
+    t = np.arange(1001) * DT
+    x = np.sin(2 * np.pi * 4.0 * t) + 2 * np.sin(2 * np.pi * 9.0 * t)
+    got = tracking.frequency_causal(t, x, 2.0, options)
+    assert 3.5 < got < 5.3  # the stronger 9 Hz line is outside the band (it biases the 4 Hz fit by 4 %)
+    assert got == spectrum.dominant_frequency_causal(
+        t, x, 2.0, 1.0, min_freq_hz=3.0, max_freq_hz=5.3, zero_padding=8, min_cycles=1.5
+    )
+    esprit = dataclasses.replace(options, method="esprit", max_freq_hz=12.0)
+    assert np.isnan(tracking.frequency_causal(t, x, 0.3, esprit))  # 0.3 s < 1.5 cycles of 3 Hz
+    times, freq = tracking.track(t, x, update_period=1.0, options=esprit)
+    np.testing.assert_allclose(times, [1.0, 2.0], rtol=1e-15)
+    np.testing.assert_allclose(freq, 9.0, rtol=1e-9)
+
+
+VALID = dict(
+    method="esprit",
+    model_order=1,
+    window=1.0,
+    min_freq_hz=0.0,
+    max_freq_hz=12.0,
+    min_cycles=0.5,
+    zero_padding=1,
+    initial_freq_hz=0.5,
+)
+
+
+def test_the_smallest_valid_options_pass():
+    tracking.TrackerOptions(**VALID).validate()
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"method": "music"}, r"study\.tracking\.method: must be one of \('fft', 'esprit'\), got 'music'"),
+        ({"model_order": 0}, r"study\.tracking\.model_order: must be an integer >= 1, got 0"),
+        ({"zero_padding": 0}, r"study\.tracking\.zero_padding: must be an integer >= 1, got 0"),
+        ({"window": 0.0}, r"study\.tracking\.window_s: must be positive, got 0\.0"),
+        ({"min_cycles": 0.0}, r"study\.tracking\.min_cycles: must be positive, got 0\.0"),
+        (
+            {"min_freq_hz": 5.0, "max_freq_hz": 5.0},
+            r"study\.tracking\.max_freq_hz: the band \[5\.0, 5\.0\] Hz is empty",
+        ),
+        ({"min_freq_hz": -1.0}, r"study\.tracking\.max_freq_hz: the band \[-1\.0, 12\.0\] Hz is empty"),
+        ({"initial_freq_hz": 0.0}, r"study\.tracking\.initial_freq_hz: must be positive, got 0\.0"),
+    ],
+)
+def test_each_bad_option_is_refused_naming_its_key(change, message):
+    with pytest.raises(ValueError, match=rf"^{message}$"):
+        tracking.TrackerOptions(**{**VALID, **change}).validate()
+
+
+# ------------------------------------------------------------------- spectrum: the documented compositions
+
+
+def _two_tone(n=1500, dt=0.002):
+    t = np.arange(n) * dt
+    return t, np.sin(2 * np.pi * 4.3 * t + 0.2) + 0.6 * np.sin(2 * np.pi * 9.1 * t) + 0.4 * t
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {},
+        dict(min_freq_hz=6.0, max_freq_hz=12.0, zero_padding=4, min_cycles=3.0, detrend="constant", refine=False),
+        dict(min_freq_hz=2.0, max_freq_hz=5.0, zero_padding=2, min_cycles=1.0, detrend="linear", refine=True),
+    ],
+)
+def test_track_dominant_is_the_causal_estimate_at_each_update(options):
+    """As documented: freq_hz[k] = dominant_frequency_causal(time, signal, t_k, window, **options), defaults
+    min_freq_hz 0, max_freq_hz inf, zero_padding 8, min_cycles 2, detrend "linear", refine True."""
+    t, x = _two_tone()
+    times, freq = spectrum.track_dominant(t, x, update_period=0.5, window=1.0, **options)
+    full = dict(min_freq_hz=0.0, max_freq_hz=np.inf, zero_padding=8, min_cycles=2.0, detrend="linear", refine=True)
+    full.update(options)
+    expected = [spectrum.dominant_frequency_causal(t, x, tk, 1.0, **full) for tk in times]
+    np.testing.assert_array_equal(freq, expected)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        dict(min_freq_hz=6.0, max_freq_hz=12.0, zero_padding=4, min_cycles=3.0, detrend="constant"),
+        dict(min_freq_hz=2.0, max_freq_hz=5.0, zero_padding=2, min_cycles=1.0, detrend="linear"),
+    ],
+)
+def test_dominant_frequency_causal_is_segment_then_peak_then_sine_fit(options):
+    t, x = _two_tone()
+    segment, dt = spectrum.causal_segment(
+        t, x, 2.5, 1.0, min_freq_hz=options["min_freq_hz"], min_cycles=options["min_cycles"]
+    )
+    band = dict(min_freq_hz=options["min_freq_hz"], max_freq_hz=options["max_freq_hz"])
+    peak = spectrum.dominant_frequency(
+        segment, dt, zero_padding=options["zero_padding"], detrend=options["detrend"], **band
+    )
+    fitted = spectrum.refine_by_sine_fit(segment, dt, peak, detrend=options["detrend"], **band)
+    assert spectrum.dominant_frequency_causal(t, x, 2.5, 1.0, **options, refine=False) == peak
+    assert spectrum.dominant_frequency_causal(t, x, 2.5, 1.0, **options) == fitted
+    assert fitted != peak
+
+
+def test_sine_fit_with_a_ramp_needs_the_linear_trend():
+    """A 6.37 Hz sine on a steep ramp, 0.4 s: with the line in the model the fit is exact (to its 1e-5 f tolerance)
+    from a start 1 % off; the constant-only model leaves the ramp to bend the sine."""
+    dt = 0.002
+    t = np.arange(200) * dt
+    x = np.sin(2 * np.pi * 6.37 * t + 0.5) + 30.0 * t
+    assert spectrum.refine_by_sine_fit(x, dt, 6.37 * 1.01, detrend="linear") == pytest.approx(6.37, rel=2e-5)
+    assert spectrum.refine_by_sine_fit(x, dt, 6.37 * 1.01, detrend="constant") != pytest.approx(6.37, rel=1e-3)
+
+
+def test_messages_are_whole():
+    t = np.arange(10) * 0.1
+    with pytest.raises(ValueError, match=r"^signal: need a 1-D array of at least 4 samples$"):
+        spectrum.amplitude_spectrum(t[:3], 0.1)
+    spectrum.amplitude_spectrum(t[:4], 0.1)  # four samples are enough
+    with pytest.raises(ValueError, match=r"^time and signal: need 1-D arrays of the same length$"):
+        spectrum.causal_segment(t, t[:9], 0.5, 1.0)
+    with pytest.raises(ValueError, match=r"^time: must increase$"):
+        spectrum.causal_segment(t[::-1], t, 0.5, 1.0)
+    with pytest.raises(ValueError, match=r"^time: the sampling must be uniform$"):
+        spectrum.causal_segment(np.r_[t[:5], t[5:] + 0.01], t, 0.95, 1.0)
+    segment, _ = spectrum.causal_segment(t[:4], t[:4], 0.3, 0.4)  # four samples spanning the window: a segment
+    np.testing.assert_array_equal(segment, t[:4])
+
+
+def test_band_edges_are_inclusive_for_a_bin_centred_peak():
+    """A sine exactly on bin 40 of a 2 s record (20 Hz, 0.5 Hz bins): a band starting or ending on that bin finds
+    it (the parabola through a symmetric peak has no shift); a band starting half a bin later does not."""
+    dt, n = 0.005, 400
+    t = np.arange(n) * dt
+    x = np.sin(2 * np.pi * 20.0 * t)
+    kw = dict(zero_padding=1)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
+    assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.25, **kw) > 20.1  # the 20.5 Hz bin, pulled back

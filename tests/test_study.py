@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
-from conftest import planned_rules, snakemake
+from conftest import camera_of, excitation_options, planned_rules, platform_from, snakemake, study_options_of
 
 from uavdamp import excitation, io, laws, metrics, strategies, study
 from uavdamp.excitation import sine_input
@@ -22,10 +22,12 @@ def fake_run(duration=6.0, dt=0.005):
 def test_cases_high_pass_and_scale():
     peak = {"amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
     cases = {
-        "a": {"run": "imbalanced", "amplitude": 1.3e-3, **peak},
-        "b": {"run": "imbalanced", "amplitude": 0.5e-3, **peak},
+        "a": {"run": "imbalanced", "amplitude_m": 1.3e-3, **peak},
+        "b": {"run": "imbalanced", "amplitude_m": 0.5e-3, **peak},
     }
-    ds = excitation.cases_dataset({"imbalanced": fake_run()}, cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
+    ds = excitation.cases_dataset(
+        {"imbalanced": fake_run()}, excitation_options(cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
+    )
     assert ds.mount_displacement.dims == ("case", "axis", "time")
     assert float(ds.time[-1]) == pytest.approx(5.0)
     peaks = np.abs(ds.mount_displacement).max("time")
@@ -44,10 +46,9 @@ def test_cases_high_pass_and_scale():
     with pytest.raises(ValueError, match="study.cases.c.run"):
         excitation.cases_dataset(
             {"imbalanced": fake_run()},
-            {"c": {"run": "nope", "amplitude": 1e-3, **peak}},
-            duration=5.0,
-            highpass_hz=3.0,
-            band_hz=(3, 12),
+            excitation_options(
+                {"c": {"run": "nope", "amplitude_m": 1e-3, **peak}}, duration=5.0, highpass_hz=3.0, band_hz=(3, 12)
+            ),
         )
 
 
@@ -104,7 +105,16 @@ def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
 
 
 def test_html_report(quick_run):
-    result = snakemake(quick_run, "--report", "reports/report.html", "--configfile", "config/quick.yaml", timeout=600)
+    result = snakemake(
+        quick_run,
+        "--report",
+        "reports/report.html",
+        "all",
+        "benchmark",
+        "--configfile",
+        "config/quick.yaml",
+        timeout=600,
+    )
     assert result.returncode == 0, result.stderr[-3000:]
     html = (quick_run / "reports/report.html").read_text(errors="replace")
     figures = sorted(p.name for p in (quick_run / "reports/figures").rglob("*.png"))
@@ -144,20 +154,18 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
         },
     )
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
-    options = study.StudyOptions.from_config(
-        {**cfg, "strategies": ["passive", "stiff_damper"], "stiffness_n_m": [50.0]}
-    )
+    options = study_options_of({**cfg, "strategies": ["passive", "stiff_damper"], "stiffness_n_m": [50.0]})
     platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
-    ds = study.run_study(cases, platform, None, options)
+    ds = study.run_study(cases, platform_from(platform), None, options)
     assert list(ds.strategy.values) == ["passive", "stiff_damper"]
     c_max = quick_config["platform"]["isolator"]["damping_max_n_s_m"]
     assert np.all(ds.damping.sel(strategy="stiff_damper") == c_max)
     assert float(ds.stiff_c.sel(case="sine", stiffness=50.0)) == c_max
     # the new metric is the mean of the base's y displacement: compare with a separate run of the same plant
-    from uavdamp.plants import Plants
+    from uavdamp.platform.plants import Plants
 
-    plant = Plants(platform).for_run("isolated", laws.Constant(c_max))
-    base = plant.run(t, y, z, stiffness=50.0, law=c_max).base_displacement.sel(axis="y")
+    plant = Plants(platform_from(platform)).for_run("isolated", laws.Constant(c_max))
+    base = plant.run(t, y, z, stiffness=50.0, law=laws.Constant(c_max)).base_displacement.sel(axis="y")
     assert float(ds.mean_base_y.sel(case="sine", stiffness=50.0, strategy="stiff_damper")) == float(base.mean())
     assert ds.mean_base_y.attrs["units"] == "m"
 
@@ -165,18 +173,17 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
 def test_unknown_strategy_is_refused_naming_it(quick_config):
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
     with pytest.raises(ValueError, match=r"study.strategies: unknown strategy \['telepathy'\]"):
-        study.StudyOptions.from_config({**cfg, "strategies": ["passive", "telepathy"]})
+        study_options_of({**cfg, "strategies": ["passive", "telepathy"]})
     with pytest.raises(ValueError, match="study.stiffness_n_m: values must be unique"):
-        study.StudyOptions.from_config({**cfg, "stiffness_n_m": [10.0, 10.0]})
+        study_options_of({**cfg, "stiffness_n_m": [10.0, 10.0]})
 
 
 def test_blur_recomputed_from_the_stored_line_of_sight_equals_the_stored_metric(comparison):
     """A user can recompute the image metrics from comparison.nc alone: its LOS series and camera attributes."""
-    from uavdamp.camera import CameraModel
     from uavdamp.image_quality import image_metrics
 
     attrs = {k.removeprefix("camera_"): v for k, v in comparison.attrs.items() if k.startswith("camera_")}
-    camera = CameraModel.from_config(
+    camera = camera_of(
         {k: (int(v) if k.endswith("_px") and k.startswith("image") else float(v)) for k, v in attrs.items()}
     )
     for case in comparison.case.values:

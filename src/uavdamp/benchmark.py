@@ -1,4 +1,4 @@
-"""The controller benchmark (issue 13): tuned baselines, table lookup, ANFIS, clairvoyant bound, over many scenarios.
+"""The controller benchmark: tuned baselines, table lookup, ANFIS, clairvoyant bound, over many scenarios.
 
     tune(inputs, ...)          the controllers' free parameters on the tuning scenarios only, per stiffness
     run_scenario(input, ...)   every controller on one scenario, per stiffness, ideal and lagged damper: criteria
@@ -25,13 +25,14 @@ from threadpoolctl import threadpool_limits
 
 from uavdamp import image_quality, strategies
 from uavdamp.camera import CameraModel
-from uavdamp.config import load, require, setting
+from uavdamp.clairvoyant import OBJECTIVES
 from uavdamp.contract import DamperBounds
-from uavdamp.linear_plant import LinearPlant
+from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.semi_active import Lagged
+from uavdamp.settings import attached, require, setting
 from uavdamp.tracking import TrackerOptions
 
-CRITERIA = ("los_std", "los_peak", "blur_p95", "unsharp_fraction", "displacement_std", "displacement_peak")
+J_CRITERIA = ("los_std", "los_peak", "blur_p95", "unsharp_fraction", "displacement_std", "displacement_peak")
 RESOURCES = {
     "energy_dissipated": ("J", "energy dissipated by the damper over the run"),
     "damping_changes_per_s": ("s-1", "changes of the applied damping per second"),
@@ -61,7 +62,7 @@ class TuningOptions:
     r_scale_range: tuple[float, ...] = setting("r_scale_range_n", length=2)  # N, clipped-optimal force scale
 
     def validate(self) -> None:
-        require(self.criterion in CRITERIA, "benchmark.tuning.criterion", f"must be one of {CRITERIA}")
+        require(self.criterion in J_CRITERIA, "benchmark.tuning.criterion", f"must be one of {J_CRITERIA}")
         for key in ("damping_range", "gain_range", "r_scale_range"):
             lo, hi = getattr(self, key)
             require(0 < lo < hi, f"benchmark.tuning.{key}", "need 0 < min < max")
@@ -72,37 +73,41 @@ class ClairvoyantOptions:
     n_candidates: int = setting()  # log-spaced C from min_damping to the damper's c_max
     min_damping: float = setting("min_damping_n_s_m")  # N s m-1
     beam_width: int = setting()
-    criterion: str = setting()  # uavdamp.clairvoyant.CRITERIA
+    criterion: str = setting()  # uavdamp.clairvoyant.OBJECTIVES
+
+    def validate(self) -> None:
+        where = "benchmark.clairvoyant."
+        require(self.criterion in OBJECTIVES, where + "criterion", f"must be one of {list(OBJECTIVES)}")
+        require(self.n_candidates >= 2, where + "n_candidates", f"must be >= 2, got {self.n_candidates}")
+        require(self.beam_width >= 1, where + "beam_width", f"must be >= 1, got {self.beam_width}")
+        require(self.min_damping > 0, where + "min_damping_n_s_m", f"must be > 0, got {self.min_damping}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class BenchmarkOptions:
-    """The runs' view of the config's ``benchmark`` section, with the study's tracker and the camera."""
+    """The runs' view of the config's ``benchmark`` section, with the study's tracker and the camera attached."""
 
     controllers: tuple[str, ...] = setting()
     stiffness: tuple[float, ...] = setting("stiffness_n_m")  # N m-1
     damper_lag: float = setting("damper_lag_s")  # s, first-order lag of the lagged damper
     tuning: TuningOptions = setting()
     clairvoyant: ClairvoyantOptions = setting()
-    tracking: TrackerOptions = setting()
-    camera: CameraModel = setting()
-
-    @classmethod
-    def from_config(cls, cfg: dict, tracking: dict, camera: dict) -> BenchmarkOptions:
-        keys = ("controllers", "stiffness_n_m", "damper_lag_s", "tuning", "clairvoyant")
-        return load(cls, {**{k: cfg[k] for k in keys}, "tracking": tracking, "camera": camera}, "benchmark")
+    tracking: TrackerOptions | None = attached()
+    camera: CameraModel | None = attached()
 
     def validate(self) -> None:
         unknown = sorted(set(self.controllers) - set(strategies.REGISTRY))
         require(not unknown, "benchmark.controllers", f"unknown {unknown} (known: {sorted(strategies.REGISTRY)})")
         require("rigid" in self.controllers, "benchmark.controllers", "must hold rigid (the criteria's reference)")
         require(self.damper_lag > 0, "benchmark.damper_lag_s", "must be > 0")
+        for key, values in (("stiffness_n_m", self.stiffness),):
+            require(bool(values) and min(values) > 0, f"benchmark.{key}", f"must be > 0, got {list(values)}")
 
 
 def criteria(response: xr.Dataset, rigid: dict, camera: CameraModel) -> tuple[dict, dict]:
     """({criterion: J}, {resource: value}) of one run; rigid: the rigid mount's `response_metrics`."""
     values = response_metrics(response, camera)
-    j = {name: (values[name] / rigid[name] if rigid[name] > 0 else math.nan) for name in CRITERIA}
+    j = {name: (values[name] / rigid[name] if rigid[name] > 0 else math.nan) for name in J_CRITERIA}
     c = response.damping.values
     if np.all(np.isnan(c)):
         return j, {name: math.nan for name in RESOURCES}
@@ -118,7 +123,7 @@ def criteria(response: xr.Dataset, rigid: dict, camera: CameraModel) -> tuple[di
 
 
 def response_metrics(response: xr.Dataset, camera: CameraModel) -> dict:
-    """The response metrics behind CRITERIA (rad, px, 1, m)."""
+    """The response metrics behind J_CRITERIA (rad, px, 1, m)."""
     t, disp = response.time.values, response.camera_displacement.values
     image = image_quality.image_metrics(t, disp, response.camera_yaw.values, response.camera_pitch.values, camera)
     return {
@@ -268,7 +273,7 @@ def run_scenario(
     """Criteria of every controller on one scenario: J (controller, stiffness, criterion, damper) and resources."""
     runner, case = _Runner(params, options, model, table), _case(ds)
     shape = (len(options.controllers), len(options.stiffness), len(DAMPERS))
-    j = np.full((*shape[:2], len(CRITERIA), shape[2]), math.nan)
+    j = np.full((*shape[:2], len(J_CRITERIA), shape[2]), math.nan)
     res = {name: np.full(shape, math.nan) for name in RESOURCES}
     with threadpool_limits(1):
         rigid = response_metrics(
@@ -282,7 +287,7 @@ def run_scenario(
                 for d, damper in enumerate(DAMPERS):
                     law = strategy.law if (damper == "ideal" or strategy.law is None) else runner.lagged(strategy.law)
                     values, resources = criteria(ctx.run(strategy, law), rigid, options.camera)
-                    j[a, b, :, d] = [values[c] for c in CRITERIA]
+                    j[a, b, :, d] = [values[c] for c in J_CRITERIA]
                     for key, value in resources.items():
                         res[key][a, b, d] = value
     dims = ("controller", "stiffness", "damper")
@@ -296,7 +301,7 @@ def run_scenario(
             **{k: (dims, v, {"units": RESOURCES[k][0], "long_name": RESOURCES[k][1]}) for k, v in res.items()},
             "rigid_value": (
                 "criterion",
-                [rigid[c] for c in CRITERIA],
+                [rigid[c] for c in J_CRITERIA],
                 {"units": "1", "long_name": "the rigid mount's metric (in criterion_units)"},
             ),
         },
@@ -318,10 +323,10 @@ def _coords(options: BenchmarkOptions) -> dict:
     return {
         "controller": ("controller", list(options.controllers), {"units": "1", "long_name": "controller"}),
         "stiffness": ("stiffness", list(options.stiffness), {"units": "N m-1", "long_name": "isolator K"}),
-        "criterion": ("criterion", list(CRITERIA), {"units": "1", "long_name": "criterion"}),
+        "criterion": ("criterion", list(J_CRITERIA), {"units": "1", "long_name": "criterion"}),
         "criterion_units": (
             "criterion",
-            [units[c] for c in CRITERIA],
+            [units[c] for c in J_CRITERIA],
             {"units": "1", "long_name": "units of the rigid mount's metric"},
         ),
         "damper": ("damper", list(DAMPERS), {"units": "1", "long_name": "damper: ideal or first-order lag"}),
@@ -356,14 +361,3 @@ def gather(runs: list[xr.Dataset], split: dict[str, str], tuned: xr.Dataset) -> 
     ds["J_worst"] = evaluation.max("scenario").assign_attrs(units="1", long_name="worst J over the evaluation set")
     tuned = tuned.rename({k: f"tuned_{k}" for k in tuned.data_vars})
     return ds.merge(tuned, combine_attrs="override")
-
-
-def headroom_share(
-    ds: xr.Dataset, criterion: str = "displacement_std", reference: str = "passive_tuned", bound: str = "clairvoyant"
-) -> xr.DataArray:
-    """Share of the clairvoyant headroom reached, (J_ref - J) / (J_ref - J_bound), on the evaluation means."""
-    m = ds.J_mean.sel(criterion=criterion)
-    gap = m.sel(controller=reference) - m.sel(controller=bound)
-    return ((m.sel(controller=reference) - m) / gap).assign_attrs(
-        units="1", long_name=f"share of the {bound} headroom over {reference} reached ({criterion})"
-    )

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from uavdamp.config import load, require, setting
+import numpy as np
+
+from uavdamp.settings import ConfigError, require, setting
 
 
 @dataclass(frozen=True)
@@ -21,37 +23,27 @@ class Budget:
     helicopter_cpu_per_simulated_s: float = setting()  # s of CPU per simulated s of the rotorcraft
     platform_cpu_per_simulated_s: float = setting()  # s of CPU per simulated s of the Exudyn platform
 
-    @classmethod
-    def from_config(cls, cfg) -> Budget:
-        return load(cls, cfg, "budget")
-
     def validate(self) -> None:
         for name in ("max_cpu_hours", "helicopter_cpu_per_simulated_s", "platform_cpu_per_simulated_s"):
             require(getattr(self, name) > 0, f"budget.{name}", f"must be > 0, got {getattr(self, name)}")
 
 
-def estimate(config: dict, grid_points: int, verify_points: int) -> dict[str, float]:
-    """Counts and estimated CPU seconds of the heavy stages of `config` (the grid's size passed in)."""
-    b = Budget.from_config(config["budget"])
-    heli, study, platform = config["helicopter"], config["study"], config["platform"]
-    runs_s = 3 * heli["solver"]["duration"]  # balanced, imbalanced, both rotors
-    sensitivity = heli["sensitivity"]
-    n_sensitivity = 1 + sum(len(v) for v in sensitivity["parameters"].values())
-    heli_s = runs_s + n_sensitivity * sensitivity["duration"]
-    per_point = b.seconds_per_point_linear if platform["backend"] == "linear" else b.seconds_per_point_exudyn
-    grid_duration = config["reference_table"]["duration"]
+def estimate(config) -> dict[str, float]:
+    """Counts and estimated CPU seconds of the heavy stages of a typed `uavdamp.config.Config`."""
+    b, heli, study, grid = config.budget, config.helicopter, config.study, config.reference_table
+    runs_s = 3 * heli.solver.duration  # balanced, imbalanced, both rotors
+    n_sensitivity = 1 + sum(len(v) for v in heli.sensitivity.parameters.values())
+    heli_s = runs_s + n_sensitivity * heli.sensitivity.duration
+    per_point = b.seconds_per_point_linear if config.platform.backend == "linear" else b.seconds_per_point_exudyn
+    grid_points = int(np.prod([axis.array().size for axis in (grid.freq_y, grid.freq_z, grid.stiffness, grid.damping)]))
     # study: per case and K, every strategy and the best-constant search (its candidates, up to 20 refinements);
     # an upper bound: the isolated runs on the linear plant cost less than this Exudyn rate
-    study_runs = (
-        len(study["cases"])
-        * len(study["stiffness_n_m"])
-        * (len(study["strategies"]) + study["optimal_candidates"] + 20)
-    )
+    study_runs = len(study.cases) * len(study.stiffness) * (len(study.strategies) + study.optimal_candidates + 20)
     cpu = {
         "grid": grid_points * per_point,
-        "verification": verify_points * b.seconds_per_point_exudyn * grid_duration / 5.0,
+        "verification": grid.verify.n_points * b.seconds_per_point_exudyn * grid.duration / 5.0,
         "helicopter": heli_s * b.helicopter_cpu_per_simulated_s,
-        "study": study_runs * study["duration_s"] * b.platform_cpu_per_simulated_s,
+        "study": study_runs * study.duration_s * b.platform_cpu_per_simulated_s,
     }
     return {
         "grid_points": grid_points,
@@ -63,11 +55,11 @@ def estimate(config: dict, grid_points: int, verify_points: int) -> dict[str, fl
     }
 
 
-def check(config: dict, grid_points: int, verify_points: int) -> dict[str, float]:
-    """The estimate; ValueError naming budget.max_cpu_hours and the numbers when it is above the budget."""
-    e = estimate(config, grid_points, verify_points)
+def check(config) -> dict[str, float]:
+    """The estimate; ConfigError naming budget.max_cpu_hours and the numbers when it is above the budget."""
+    e = estimate(config)
     if e["cpu_s"] > e["max_cpu_s"]:
-        raise ValueError(
+        raise ConfigError(
             f"budget.max_cpu_hours: the run is estimated at {e['cpu_s'] / 3600:.3g} CPU hours "
             f"(grid {e['grid_points']:,} points: {e['cpu_s_grid'] / 3600:.3g} h; helicopter "
             f"{e['helicopter_simulated_s']:g} simulated s: {e['cpu_s_helicopter'] / 3600:.3g} h; study "

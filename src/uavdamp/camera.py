@@ -35,8 +35,6 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from uavdamp.config import load
-
 _REQUIRED = (
     "focal_length_m",
     "pixel_pitch_m",
@@ -85,11 +83,6 @@ class CameraModel:
                 f"camera.line_time_s ({self.line_time_s} s) x {self.image_height_px} rows exceeds the frame period "
                 f"{period:.6g} s"
             )
-
-    @classmethod
-    def from_config(cls, section) -> CameraModel:
-        """Camera from the config section (`uavdamp.config.load`); ValueError names the key."""
-        return load(cls, section, "camera")
 
     @property
     def focal_px(self) -> float:

@@ -4,7 +4,7 @@ It bounds what a scheduler that changes C every update period P (the paper's 0.5
 but only over the schedules it explores: a beam search (width `beam_width`) over `candidates` C per period on
 the linear plant (`uavdamp.linear_plant.LinearPlant`, exact for its linearisation), plus every constant schedule
 among the candidates. It is not a global optimum: a schedule the beam pruned, or a C between candidates, may do
-better. The criterion is named (`CRITERIA`): the square root of the summed variances (1/N, whole run) of output
+better. The criterion is named (`OBJECTIVES`): the square root of the summed variances (1/N, whole run) of output
 rows of the plant, e.g. "camera_std" = sqrt(var y + var z) of the camera displacement (the study's criterion) or
 "los_std" = sqrt(var yaw + var pitch) (`uavdamp.image_quality.line_of_sight_stats`). Partial runs are ranked by
 the same expression over the samples so far (a heuristic: the variance of a prefix).
@@ -18,10 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from uavdamp.excitation import on_grid
-from uavdamp.linear_plant import OUTPUTS
-from uavdamp.statespace import lift, propagate
+from uavdamp.platform.linear_plant import OUTPUTS
+from uavdamp.platform.statespace import lift, propagate
 
-CRITERIA = {"camera_std": ("camera_y", "camera_z"), "los_std": ("yaw", "pitch")}  # name -> output rows
+OBJECTIVES = {"camera_std": ("camera_y", "camera_z"), "los_std": ("yaw", "pitch")}  # name -> output rows
 _BLOCK = 32
 
 
@@ -68,8 +68,8 @@ def schedule(
     damper bounds. Returns the best of the beam's schedules and the constant ones (never worse than any
     constant candidate on its criterion).
     """
-    if criterion not in CRITERIA:
-        raise ValueError(f"criterion: unknown {criterion!r} (known: {sorted(CRITERIA)})")
+    if criterion not in OBJECTIVES:
+        raise ValueError(f"criterion: unknown {criterion!r} (known: {sorted(OBJECTIVES)})")
     if beam_width < 1:
         raise ValueError(f"beam_width: must be >= 1, got {beam_width}")
     candidates = np.unique(np.asarray(candidates, dtype=float))
@@ -83,7 +83,7 @@ def schedule(
     u = np.stack([y, z], axis=1)
     slope = np.diff(u, axis=0) / h
     rate = np.concatenate([slope[:1], 0.5 * (slope[:-1] + slope[1:]), slope[-1:]])
-    rows = [OUTPUTS.index(r) for r in CRITERIA[criterion]]
+    rows = [OUTPUTS.index(r) for r in OBJECTIVES[criterion]]
     cont, _ = plant.step_map(stiffness, candidates[0])
     out_map = (cont.c[rows], cont.du[rows], cont.dv[rows])  # independent of C
     maps = {c: plant.step_map(stiffness, c)[1] for c in candidates}

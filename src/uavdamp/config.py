@@ -1,102 +1,125 @@
-"""Typed config sections: a frozen dataclass per config section, loaded with unknown and missing keys refused.
+"""The one config layer: the whole config as typed, frozen sections, loaded with every key checked before any job.
 
-A section class declares its fields with `setting(...)`; the config key defaults to the field's name, or is given
-explicitly where the key carries a unit the Python name does not need (``time_step`` <- ``time_step_s``).
-`load(cls, mapping, where)` converts every value to the field's declared type (float, int, bool, str, a tuple of
-floats, a nested section class, or a mapping of section classes) and raises ValueError naming ``where.key`` for
-an unknown, missing or ill-typed key. Range checks live in each class's ``validate()`` (called by `load`), and
-checks that span sections in `uavdamp.checks`.
+`load(mapping)` parses every section of a merged config (Snakemake's `config`) into `Config`, refusing unknown,
+renamed, missing and ill-typed keys with the dotted key and the rule it breaks (`uavdamp.settings`). Each rule
+receives the part of a section its job uses through `params:`; the job parses that view with the same section
+class (`view` keeps exactly a class's keys), so the config means the same in the Snakefile and in every job.
+
+Sections (module: class): helicopter (`uavdamp.helicopter`: HelicopterSection), platform (`uavdamp.platform`:
+PlatformSection), reference_table (`uavdamp.reference_table`: ReferenceTableSection), anfis (`uavdamp.anfis`:
+AnfisOptions), study (`uavdamp.study`: StudySection), camera (`uavdamp.camera`: CameraModel), budget
+(`uavdamp.budget`: Budget), benchmark (`BenchmarkSection` here: the scenarios', the runs' and the split's views).
 """
 
 from __future__ import annotations
 
-import dataclasses
-import math
-import typing
-from collections.abc import Mapping
-from typing import Any, TypeVar
+from dataclasses import dataclass, replace
 
-T = TypeVar("T")
-_MISSING = dataclasses.MISSING
+from uavdamp.anfis import AnfisOptions
+from uavdamp.benchmark import BenchmarkOptions
+from uavdamp.budget import Budget
+from uavdamp.camera import CameraModel
+from uavdamp.helicopter import HelicopterSection
+from uavdamp.platform import PlatformSection
+from uavdamp.reference_table import ReferenceTableSection
+from uavdamp.scenarios import ScenarioOptions, Split
+from uavdamp.settings import RENAMED, ConfigError, parse, setting, view
+from uavdamp.study import StudyOptions, StudySection
+from uavdamp.tracking import TrackerOptions
 
-
-def setting(key: str | None = None, *, default: Any = _MISSING, length: int | None = None):
-    """A dataclass field read from config key `key` (default: the field's name); `length` for fixed-size tuples."""
-    metadata = {"key": key, "length": length}
-    if default is _MISSING:
-        return dataclasses.field(metadata=metadata)
-    return dataclasses.field(default=default, metadata=metadata)
-
-
-def key_of(cls, name: str) -> str:
-    """The config key of field `name` of section class `cls`."""
-    for f in dataclasses.fields(cls):
-        if f.name == name:
-            return f.metadata.get("key") or f.name
-    raise KeyError(name)
+__all__ = ["Config", "ConfigError", "benchmark_options", "load", "study_options", "view"]
 
 
-def _convert(value, kind, where: str, length: int | None):
-    origin = typing.get_origin(kind)
-    if dataclasses.is_dataclass(kind):  # a nested section: by its own from_config (its keys' names) if it has one
-        return kind.from_config(value) if hasattr(kind, "from_config") else load(kind, value, where)
-    if origin is tuple:
-        if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__len__"):
-            raise ValueError(f"{where}: expected a list, got {value!r}")
-        item = typing.get_args(kind)[0]
-        if length is not None and len(value) != length:
-            raise ValueError(f"{where}: needs {length} values, got {value!r}")
-        return tuple(_convert(v, item, f"{where}[{i}]", None) for i, v in enumerate(value))
-    if origin is dict:
-        if not isinstance(value, Mapping):
-            raise ValueError(f"{where}: expected a mapping, got {value!r}")
-        item = typing.get_args(kind)[1]
-        return {str(k): _convert(v, item, f"{where}.{k}", None) for k, v in value.items()}
-    if kind is bool:
-        if not isinstance(value, bool):
-            raise ValueError(f"{where}: expected true or false, got {value!r}")
-        return value
-    if kind is int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise ValueError(f"{where}: expected an integer, got {value!r}")
-        return value
-    if kind is float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise ValueError(f"{where}: expected a finite number, got {value!r}")
-        return float(value)
-    if kind is str:
-        if not isinstance(value, str):
-            raise ValueError(f"{where}: expected a string, got {value!r}")
-        return value
-    raise TypeError(f"{where}: unsupported field type {kind!r}")
+@dataclass(frozen=True, kw_only=True)
+class BenchmarkSection(BenchmarkOptions, ScenarioOptions):
+    """The config section ``benchmark``: the scenarios (`ScenarioOptions`), the runs (`BenchmarkOptions`), the split."""
+
+    split: Split = setting()
+
+    def validate(self) -> None:
+        BenchmarkOptions.validate(self)
+        ScenarioOptions.validate(self)
 
 
-def load(cls: type[T], mapping, where: str) -> T:
-    """An instance of section class `cls` from a config mapping; ValueError names ``where.key`` on any problem."""
-    if not isinstance(mapping, Mapping):
-        raise ValueError(f"{where}: expected a mapping, got {type(mapping).__name__}")
-    hints = typing.get_type_hints(cls)
-    fields = {key_of(cls, f.name): f for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(mapping) - set(fields))
-    if unknown:
-        raise ValueError(f"{where}: unknown key(s) {unknown}")
-    values = {}
-    for key, f in fields.items():
-        if key not in mapping:
-            if f.default is _MISSING and f.default_factory is _MISSING:
-                raise ValueError(f"{where}: missing key {key!r}")
-            continue
-        kind = hints[f.name]
-        if typing.get_origin(kind) in (typing.Union, getattr(__import__("types"), "UnionType", None)):
-            kind = next(a for a in typing.get_args(kind) if a is not type(None))
-        values[f.name] = _convert(mapping[key], kind, f"{where}.{key}", f.metadata.get("length"))
-    obj = cls(**values)
-    if hasattr(obj, "validate"):
-        obj.validate()
-    return obj
+@dataclass(frozen=True)
+class Config:
+    """The whole config, every section typed."""
+
+    helicopter: HelicopterSection
+    platform: PlatformSection
+    reference_table: ReferenceTableSection
+    anfis: AnfisOptions
+    study: StudySection
+    camera: CameraModel
+    budget: Budget
+    benchmark: BenchmarkSection
 
 
-def require(ok: bool, where: str, rule: str) -> None:
-    """ValueError ``where: rule`` unless `ok`."""
-    if not ok:
-        raise ValueError(f"{where}: {rule}")
+def load(mapping) -> Config:
+    """The typed config of a merged config mapping; ConfigError names the first bad key."""
+    return parse(Config, mapping, "")
+
+
+def study_options(study: dict, camera: dict) -> StudyOptions:
+    """The study runs' options from their views of ``study`` and ``camera`` (the camera attached)."""
+    return replace(parse(StudyOptions, study, "study"), camera=parse(CameraModel, camera, "camera"))
+
+
+def benchmark_options(runs: dict, tracking: dict, camera: dict) -> BenchmarkOptions:
+    """The benchmark runs' options from their views of ``benchmark``, ``study.tracking`` and ``camera``."""
+    options = parse(BenchmarkOptions, runs, "benchmark")
+    tracker = parse(TrackerOptions, tracking, "study.tracking")
+    return replace(options, tracking=tracker, camera=parse(CameraModel, camera, "camera"))
+
+
+def _renames() -> dict[str, str]:
+    """Old dotted key -> new key name: the keys renamed to carry their unit."""
+    h = "helicopter."
+    pairs = {
+        h + "fuselage": {"mass": "mass_kg", "inertia": "inertia_kg_m2", "inertia_xz": "inertia_xz_kg_m2"},
+        h + "main_rotor": {
+            "blade_mass": "blade_mass_kg",
+            "blade_length": "blade_length_m",
+            "blade_inertia": "blade_inertia_kg_m2",
+            "hub_height": "hub_height_m",
+            "hinge_offset": "hinge_offset_m",
+            "flap_stiffness": "flap_stiffness_n_m_rad",
+            "flap_damping": "flap_damping_n_m_s_rad",
+            "lag_stiffness": "lag_stiffness_n_m_rad",
+            "lag_damping": "lag_damping_n_m_s_rad",
+            "feather_stiffness": "feather_stiffness_n_m_rad",
+            "feather_damping": "feather_damping_n_m_s_rad",
+        },
+        h + "tail_rotor": {
+            "blade_mass": "blade_mass_kg",
+            "blade_length": "blade_length_m",
+            "blade_inertia": "blade_inertia_kg_m2",
+            "position": "position_m",
+        },
+        h + "solver": {
+            "duration": "duration_s",
+            "step": "step_s",
+            "output_step": "output_step_s",
+            "newton_absolute_tolerance": "newton_absolute_tolerance_n",
+        },
+        h + "sensitivity": {"duration": "duration_s"},
+        h + "sensitivity.parameters": {
+            "lag_stiffness": "lag_stiffness_n_m_rad",
+            "lag_damping": "lag_damping_n_m_s_rad",
+            "hinge_offset": "hinge_offset_m",
+            "feather_stiffness": "feather_stiffness_n_m_rad",
+        },
+        "helicopter": {"mount_point": "mount_point_m"},
+        "reference_table": {
+            "stiffness": "stiffness_n_m",
+            "damping": "damping_n_s_m",
+            "amplitude": "amplitude_m",
+            "duration": "duration_s",
+            "windows": "windows_s",
+        },
+        "study.cases.*": {"amplitude": "amplitude_m"},
+    }
+    return {f"{where}.{old}": new for where, keys in pairs.items() for old, new in keys.items()}
+
+
+RENAMED.update(_renames())

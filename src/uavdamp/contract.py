@@ -88,6 +88,38 @@ class Plant(Protocol):
     def run(self, time, mount_y, mount_z, *, stiffness: float | None = None, law=None) -> xr.Dataset: ...
 
 
+def is_multiple(period: float, step: float) -> bool:
+    """True if `period` is a positive whole multiple of `step` (to 1e-9 relative)."""
+    n = round(period / step)
+    return n >= 1 and abs(n * step - period) <= 1e-9 * max(period, 1.0)
+
+
+def prepare_run(plant, stiffness: float | None, law) -> tuple[float, object | None, int | None]:
+    """(K N m-1, law, solver steps per update) of one run of `plant` (its `params` and `mount`), checked.
+
+    K defaults to the configured one; the rigid mount takes no law (None, None); the isolated mount needs a
+    `DampingLaw` (TypeError otherwise: a number is not a law) whose update period (None: the configured one) is a
+    whole multiple of the time step. The law is reset for the run.
+    """
+    p = plant.params
+    stiffness = p.isolator_stiffness if stiffness is None else float(stiffness)
+    if not (math.isfinite(stiffness) and stiffness > 0):
+        raise ValueError(f"stiffness must be > 0, got {stiffness}")
+    if plant.mount != "isolated":
+        return stiffness, None, None
+    if not isinstance(law, DampingLaw):
+        raise TypeError(
+            f"damping: the isolated mount needs a damping law (uavdamp.contract.DampingLaw, e.g. "
+            f"uavdamp.laws.Constant(c)), got {law!r}"
+        )
+    h = p.time_step
+    period = p.update_period if law.update_period is None else float(law.update_period)
+    if not is_multiple(period, h):
+        raise ValueError(f"update_period ({period} s) must be a positive multiple of time_step ({h} s)")
+    law.reset()
+    return stiffness, law, int(round(period / h))
+
+
 @dataclass(frozen=True)
 class DamperBounds:
     """Damper bounds, N s m-1: c_min <= C <= c_max."""

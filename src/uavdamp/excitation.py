@@ -14,16 +14,56 @@ is the input's, whichever axis carries it), which keeps the helicopter's Y/Z rat
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import xarray as xr
 from scipy.signal import butter, sosfiltfilt
 
 from uavdamp import spectrum
+from uavdamp.settings import require, setting
+from uavdamp.tracking import TrackerOptions
 
 AXES = ("y", "z")
 READINGS = ("peak", "dominant")
 SCALINGS = ("per_axis", "common")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One input case of the study (``study.cases.NAME``): a helicopter run, scaled to `amplitude` (m) as read."""
+
+    run: str = setting()  # helicopter run: balanced | imbalanced | both_rotors
+    amplitude: float = setting("amplitude_m")  # m
+    amplitude_reading: str = setting()  # peak | dominant
+    amplitude_scaling: str = setting()  # per_axis | common
+    description: str = setting(default="")
+
+    def validate(self, where: str) -> None:
+        require(self.amplitude > 0, f"{where}.amplitude_m", f"must be > 0, got {self.amplitude}")
+        for key, choices in (("amplitude_reading", READINGS), ("amplitude_scaling", SCALINGS)):
+            value = getattr(self, key)
+            require(value in choices, f"{where}.{key}", f"must be one of {list(choices)}, got {value!r}")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ExcitationOptions:
+    """The excitation stage's view of ``study``: the cases, the run length, the high-pass, the tracker's band."""
+
+    cases: dict[str, Case] = setting()
+    duration_s: float = setting()  # s, from the helicopter's start
+    highpass_hz: float = setting()  # Hz
+    tracking: TrackerOptions = setting()
+
+    def validate(self) -> None:
+        require(bool(self.cases), "study.cases", "needs at least one case")
+        require(self.duration_s > 0, "study.duration_s", f"must be > 0, got {self.duration_s}")
+        require(self.highpass_hz > 0, "study.highpass_hz", f"must be > 0, got {self.highpass_hz}")
+
+    @property
+    def band_hz(self) -> tuple[float, float]:
+        """The tracker's band, Hz: where the dominant line is read."""
+        return self.tracking.min_freq_hz, self.tracking.max_freq_hz
 
 
 def high_pass(signal: np.ndarray, dt: float, cutoff_hz: float, order: int = 4) -> np.ndarray:
@@ -65,13 +105,6 @@ def amplitude_reading(signal: np.ndarray, dt: float, reading: str, band_hz: tupl
     return dominant_line_amplitude(signal, dt, *band_hz)
 
 
-def _case_choice(case: dict, name: str, key: str, choices: tuple[str, ...]) -> str:
-    value = case.get(key)
-    if value not in choices:
-        raise ValueError(f"study.cases.{name}.{key}: must be one of {choices}, got {value!r}")
-    return value
-
-
 def scale_factors(
     raw: dict[str, np.ndarray], dt: float, *, amplitude: float, reading: str, scaling: str, band_hz: tuple[float, float]
 ) -> dict[str, float]:
@@ -84,100 +117,99 @@ def scale_factors(
     return {axis: amplitude / value for axis, value in readings.items()}
 
 
-def cases_dataset(
-    runs: dict[str, xr.Dataset], cases: dict, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]
-) -> xr.Dataset:
-    """The study's inputs: `mount_displacement` (case, axis, time), m, one case per entry of `cases`
-    ({name: {"run": run name, "amplitude": m, "amplitude_reading": "peak" | "dominant",
-    "amplitude_scaling": "per_axis" | "common", "description": text}}), plus per case and axis the
-    scale applied, the dominant frequency, the dominant line's amplitude and the spectral width in
-    `band_hz` (Hz); the "dominant" reading looks for its line in `band_hz`."""
-    names = list(cases)
-    time = None
-    signals, scale, dominant, width, line = [], [], [], [], []
-    for name in names:
-        case = cases[name]
-        if case["run"] not in runs:
-            raise ValueError(f"study.cases.{name}.run: unknown helicopter run {case['run']!r} (known: {sorted(runs)})")
-        reading = _case_choice(case, name, "amplitude_reading", READINGS)
-        scaling = _case_choice(case, name, "amplitude_scaling", SCALINGS)
-        run = runs[case["run"]]
-        t = run.time.values
-        keep = t <= duration + 1e-9
-        if t[keep][-1] < duration - 1e-9:
-            raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s)")
-        dt = float(np.mean(np.diff(t)))
-        raw = {axis: high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
-        factors = scale_factors(
-            raw, dt, amplitude=float(case["amplitude"]), reading=reading, scaling=scaling, band_hz=band_hz
-        )
-        rows = []
-        for axis in AXES:
-            rows.append(factors[axis] * raw[axis])
-            scale.append(factors[axis])
-            dominant.append(spectrum.dominant_frequency(rows[-1], dt, min_freq_hz=band_hz[0], max_freq_hz=band_hz[1]))
-            line.append(dominant_line_amplitude(rows[-1], dt, *band_hz))
-            width.append(spectral_width_hz(rows[-1], dt, *band_hz))
-        if time is not None and (time.size != keep.sum() or not np.allclose(time, t[keep])):
-            raise ValueError("helicopter runs of different cases are sampled differently")
-        time = t[keep]
-        signals.append(rows)
-    shape = (len(names), len(AXES))
-    return xr.Dataset(
-        {
-            "mount_displacement": (
-                ("case", "axis", "time"),
-                np.asarray(signals),
-                {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"},
-            ),
-            "scale": (
-                ("case", "axis"),
-                np.reshape(scale, shape),
-                {"units": "1", "long_name": "factor from the high-passed helicopter signal to the input"},
-            ),
-            "dominant_freq": (
-                ("case", "axis"),
-                np.reshape(dominant, shape),
-                {"units": "Hz", "long_name": "dominant frequency of the whole input"},
-            ),
-            "spectral_width": (
-                ("case", "axis"),
-                np.reshape(width, shape),
-                {"units": "Hz", "long_name": "RMS width of the input's power spectrum in the band"},
-            ),
-            "dominant_amplitude": (
-                ("case", "axis"),
-                np.reshape(line, shape),
-                {"units": "m", "long_name": "amplitude of the input's dominant line in the band"},
-            ),
-            "amplitude": (
-                "case",
-                [float(cases[n]["amplitude"]) for n in names],
-                {"units": "m", "long_name": "input amplitude as read by amplitude_reading"},
-            ),
-            "amplitude_reading": (
-                "case",
-                [cases[n]["amplitude_reading"] for n in names],
-                {"units": "1", "long_name": "reading of the amplitude: peak or dominant line"},
-            ),
-            "amplitude_scaling": (
-                "case",
-                [cases[n]["amplitude_scaling"] for n in names],
-                {"units": "1", "long_name": "scaling: per axis or one factor for both axes"},
-            ),
-            "description": (
-                "case",
-                [str(cases[n].get("description", "")) for n in names],
-                {"units": "1", "long_name": "case description"},
-            ),
-        },
-        coords={
-            "case": ("case", names, {"units": "1", "long_name": "input case"}),
-            "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
-            "time": ("time", time - time[0], {"units": "s", "long_name": "time"}),
-        },
-        attrs={"highpass_hz": highpass_hz, "duration_s": duration},
+def case_input(
+    run: xr.Dataset, case: Case, where: str, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]
+) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, tuple]]:
+    """(time s, {axis: input m}, {statistic: per-axis values}) of one case from its helicopter run."""
+    t = run.time.values
+    keep = t <= duration + 1e-9
+    if t[keep][-1] < duration - 1e-9:
+        raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s) of {where}")
+    dt = float(np.mean(np.diff(t)))
+    raw = {axis: high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
+    factors = scale_factors(
+        raw,
+        dt,
+        amplitude=case.amplitude,
+        reading=case.amplitude_reading,
+        scaling=case.amplitude_scaling,
+        band_hz=band_hz,
     )
+    rows = {axis: factors[axis] * raw[axis] for axis in AXES}
+    stats = {
+        "scale": tuple(factors[a] for a in AXES),
+        "dominant_freq": tuple(
+            spectrum.dominant_frequency(rows[a], dt, min_freq_hz=band_hz[0], max_freq_hz=band_hz[1]) for a in AXES
+        ),
+        "dominant_amplitude": tuple(dominant_line_amplitude(rows[a], dt, *band_hz) for a in AXES),
+        "spectral_width": tuple(spectral_width_hz(rows[a], dt, *band_hz) for a in AXES),
+    }
+    return t[keep], rows, stats
+
+
+_CASE_STATS = {
+    "scale": ("1", "factor from the high-passed helicopter signal to the input"),
+    "dominant_freq": ("Hz", "dominant frequency of the whole input"),
+    "spectral_width": ("Hz", "RMS width of the input's power spectrum in the band"),
+    "dominant_amplitude": ("m", "amplitude of the input's dominant line in the band"),
+}
+
+
+def cases_dataset(runs: dict[str, xr.Dataset], options: ExcitationOptions) -> xr.Dataset:
+    """The study's inputs: `mount_displacement` (case, axis, time), m, one case per entry of `options.cases`, plus
+    per case and axis the scale applied, the dominant frequency, the dominant line's amplitude and the spectral
+    width in the tracker's band (Hz), where the "dominant" reading looks for its line."""
+    names, time, signals, stats = list(options.cases), None, [], []
+    for name in names:
+        case, where = options.cases[name], f"study.cases.{name}"
+        if case.run not in runs:
+            raise ValueError(f"{where}.run: unknown helicopter run {case.run!r} (known: {sorted(runs)})")
+        t, rows, found = case_input(
+            runs[case.run],
+            case,
+            where,
+            duration=options.duration_s,
+            highpass_hz=options.highpass_hz,
+            band_hz=options.band_hz,
+        )
+        if time is not None and (time.size != t.size or not np.allclose(time, t)):
+            raise ValueError("helicopter runs of different cases are sampled differently")
+        time = t
+        signals.append([rows[a] for a in AXES])
+        stats.append(found)
+    cases = [options.cases[n] for n in names]
+    per_case = {
+        "amplitude": ([c.amplitude for c in cases], "m", "input amplitude as read by amplitude_reading"),
+        "amplitude_reading": (
+            [c.amplitude_reading for c in cases],
+            "1",
+            "reading of the amplitude: peak or dominant line",
+        ),
+        "amplitude_scaling": (
+            [c.amplitude_scaling for c in cases],
+            "1",
+            "scaling: per axis or one factor for both axes",
+        ),
+        "description": ([c.description for c in cases], "1", "case description"),
+    }
+    data = {
+        "mount_displacement": (
+            ("case", "axis", "time"),
+            np.asarray(signals),
+            {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"},
+        ),
+        **{
+            k: (("case", "axis"), [s[k] for s in stats], {"units": u, "long_name": n})
+            for k, (u, n) in _CASE_STATS.items()
+        },
+        **{k: ("case", v, {"units": u, "long_name": n}) for k, (v, u, n) in per_case.items()},
+    }
+    coords = {
+        "case": ("case", names, {"units": "1", "long_name": "input case"}),
+        "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
+        "time": ("time", time - time[0], {"units": "s", "long_name": "time"}),
+    }
+    return xr.Dataset(data, coords=coords, attrs={"highpass_hz": options.highpass_hz, "duration_s": options.duration_s})
 
 
 def sine_input(freq_y_hz: float, freq_z_hz: float, amplitude: float, duration: float, time_step: float):

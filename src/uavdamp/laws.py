@@ -60,15 +60,6 @@ class Schedule:
         return float(c)
 
 
-def as_law(damping) -> object:
-    """A damping law from a law, a number (Constant) or a sequence (Schedule)."""
-    if callable(damping) and hasattr(damping, "reset"):
-        return damping
-    if np.ndim(damping) == 0:
-        return Constant(damping)
-    return Schedule(damping)
-
-
 class AnfisLaw:
     """The paper's semi-active controller (Figs. 8, 9): C = model.predict([[f_y, f_z, K]]) every update.
 

@@ -1,4 +1,4 @@
-"""The benchmark's scenarios (issue 13): helicopter runs over imbalance, rotor speed and tail rotor, and synthetics.
+"""The benchmark's scenarios: helicopter runs over imbalance, rotor speed and tail rotor, and synthetics.
 
 Names come from the config's ``benchmark`` section (`scenario_specs`): every combination of
 helicopter.imbalance_mass_factor x rotor_speed_ratio x tail_rotor ("heli_m0.5_r1.1_tail_on"), and the entries of
@@ -17,49 +17,123 @@ to the RMS of a sine of amplitude_m.
 from __future__ import annotations
 
 import itertools
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import xarray as xr
 from scipy.signal import butter, chirp, sosfiltfilt
 
 from uavdamp import helicopter as H
-from uavdamp.excitation import cases_dataset
+from uavdamp.excitation import Case, case_input
+from uavdamp.helicopter import HelicopterRun
+from uavdamp.settings import require, setting
 
 KINDS = ("helicopter", "sweep", "tones", "random")
 _ATTRS = {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"}
+_NEEDS = {"sweep": ("freq_hz",), "tones": ("freq_y_hz", "freq_z_hz"), "random": ("band_hz", "seed")}
+_W = "benchmark."
 
 
-def scenario_specs(cfg: dict) -> dict[str, dict]:
-    """{name: spec} of every scenario of the config's benchmark section (spec["kind"] in KINDS)."""
-    heli = cfg["helicopter"]
+@dataclass(frozen=True)
+class HelicopterScenarios:
+    """The helicopter scenarios' grid (``benchmark.helicopter``): every combination is one scenario."""
+
+    imbalance_mass_factor: tuple[float, ...] = setting()  # 1, mass scale of the imbalanced main blade
+    rotor_speed_ratio: tuple[float, ...] = setting()  # 1, both rotor speeds relative to the config's
+    tail_rotor: tuple[bool, ...] = setting()  # stopped (false) or running (true)
+
+    def validate(self) -> None:
+        for key in ("imbalance_mass_factor", "rotor_speed_ratio"):
+            values = getattr(self, key)
+            require(bool(values) and min(values) > 0, f"{_W}helicopter.{key}", f"must be > 0, got {list(values)}")
+
+
+@dataclass(frozen=True)
+class Synthetic:
+    """A synthetic scenario (an entry of ``benchmark.synthetic``): sweep, tones or random, with its own keys."""
+
+    name: str = setting()
+    kind: str = setting()
+    freq_hz: tuple[float, ...] | None = setting(default=None)  # Hz, sweep: [start, end]
+    freq_y_hz: tuple[float, ...] | None = setting(default=None)  # Hz, tones on y
+    freq_z_hz: tuple[float, ...] | None = setting(default=None)  # Hz, tones on z
+    band_hz: tuple[float, ...] | None = setting(default=None)  # Hz, random: band-pass [low, high]
+    seed: int | None = setting(default=None)  # random: seed of the generator
+
+    def validate(self, where: str) -> None:
+        require(self.kind in KINDS[1:], f"{where}.kind", f"must be one of {list(KINDS[1:])}, got {self.kind!r}")
+        for key in ("freq_hz", "freq_y_hz", "freq_z_hz", "band_hz", "seed"):
+            given = getattr(self, key) is not None
+            require(
+                given == (key in _NEEDS[self.kind]), f"{where}.{key}", f"kind {self.kind!r} takes {_NEEDS[self.kind]}"
+            )
+        for key in ("freq_hz", "band_hz"):
+            values = getattr(self, key)
+            if values is not None:
+                require(
+                    len(values) == 2 and 0 < values[0] < values[1],
+                    f"{where}.{key}",
+                    f"need 0 < low < high, got {list(values)}",
+                )
+
+    def spec(self) -> dict:
+        """{"kind": ..., and the kind's keys}."""
+        values = {key: getattr(self, key) for key in _NEEDS[self.kind]}
+        return {"kind": self.kind, **{k: list(v) if isinstance(v, tuple) else v for k, v in values.items()}}
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScenarioOptions:
+    """The scenario jobs' view of ``benchmark``: run length, amplitude, the helicopter grid and the synthetics."""
+
+    duration_s: float = setting()  # s
+    amplitude_m: float = setting()  # m
+    highpass_hz: float = setting()  # Hz, helicopter inputs
+    band_hz: tuple[float, ...] = setting(length=2)  # Hz, where the helicopter inputs' dominant line is read
+    helicopter: HelicopterScenarios = setting()
+    synthetic: tuple[Synthetic, ...] = setting()
+
+    def validate(self) -> None:
+        require(self.duration_s > 0, _W + "duration_s", f"must be > 0, got {self.duration_s}")
+        require(self.amplitude_m > 0, _W + "amplitude_m", f"must be > 0, got {self.amplitude_m}")
+        require(0 < self.band_hz[0] < self.band_hz[1], _W + "band_hz", f"need 0 < low < high, got {list(self.band_hz)}")
+        names = [s.name for s in self.synthetic]
+        require(len(set(names)) == len(names), _W + "synthetic", f"names must be unique, got {names}")
+
+
+def scenario_specs(options: ScenarioOptions) -> dict[str, dict]:
+    """{name: spec} of every scenario (spec["kind"] in KINDS)."""
+    heli = options.helicopter
     specs = {}
-    for mass, ratio, tail in itertools.product(
-        heli["imbalance_mass_factor"], heli["rotor_speed_ratio"], heli["tail_rotor"]
-    ):
+    for mass, ratio, tail in itertools.product(heli.imbalance_mass_factor, heli.rotor_speed_ratio, heli.tail_rotor):
         name = f"heli_m{float(mass):g}_r{float(ratio):g}_tail_{'on' if tail else 'off'}"
         specs[name] = {
             "kind": "helicopter",
             "mass_factor": float(mass),
             "speed_ratio": float(ratio),
-            "tail_rotor": bool(tail),
+            "tail_rotor": tail,
         }
-    for entry in cfg.get("synthetic", []):
-        spec = {k: v for k, v in entry.items() if k != "name"}
-        name = str(entry.get("name"))
-        if spec.get("kind") not in KINDS[1:]:
-            raise ValueError(f"benchmark.synthetic.{name}.kind: must be one of {KINDS[1:]}, got {spec.get('kind')!r}")
-        if name in specs or not name.replace("_", "").isalnum():
-            raise ValueError(f"benchmark.synthetic.{name}: the name must be new and alphanumeric (with _)")
-        specs[name] = dict(spec)
+    for entry in options.synthetic:
+        require(entry.name not in specs, f"{_W}synthetic.{entry.name}", "the name is taken by a helicopter scenario")
+        specs[entry.name] = entry.spec()
     return specs
+
+
+@dataclass(frozen=True)
+class Split:
+    """The seeded split of the scenarios into the tuning and the evaluation set (``benchmark.split``)."""
+
+    tuning_fraction: float = setting()  # 1
+    seed: int = setting()
+
+    def validate(self) -> None:
+        ok = 0 < self.tuning_fraction < 1
+        require(ok, _W + "split.tuning_fraction", f"must lie in (0, 1), got {self.tuning_fraction}")
 
 
 def split(names, tuning_fraction: float, seed: int) -> dict[str, str]:
     """{name: "tuning" | "evaluation"}: a seeded random `tuning_fraction` of the sorted names (at least one of each)."""
     names = sorted(names)
-    if not 0 < tuning_fraction < 1:
-        raise ValueError(f"benchmark.split.tuning_fraction: must be in (0, 1), got {tuning_fraction}")
     if len(names) < 2:
         raise ValueError(f"benchmark: need at least 2 scenarios to split, got {len(names)}")
     n_tune = min(max(int(round(tuning_fraction * len(names))), 1), len(names) - 1)
@@ -68,25 +142,22 @@ def split(names, tuning_fraction: float, seed: int) -> dict[str, str]:
     return {name: ("tuning" if name in tuning else "evaluation") for name in names}
 
 
-def helicopter_input(
-    heli_cfg: dict, spec: dict, *, duration: float, highpass_hz: float, amplitude: float, band_hz: tuple[float, float]
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(time s, y m, z m) of one helicopter scenario (module docstring); heli_cfg: the config's helicopter section."""
-    heli = H.Helicopter.from_config(heli_cfg)
+def helicopter_input(heli: HelicopterRun, spec: dict, options: ScenarioOptions) -> tuple[np.ndarray, ...]:
+    """(time s, y m, z m) of one helicopter scenario (module docstring)."""
     ratio = spec["speed_ratio"]
-    tail = heli_cfg["tail_rotor"]["omega_running_rad_s"] * ratio if spec["tail_rotor"] else 0.0
+    tail = heli.tail_rotor.omega_running_rad_s * ratio if spec["tail_rotor"] else 0.0
     heli = replace(
         heli,
-        imbalance_mass_factor=spec["mass_factor"],
+        imbalance=replace(heli.imbalance, mass_factor=spec["mass_factor"]),
         main_rotor=replace(heli.main_rotor, omega_rad_s=heli.main_rotor.omega_rad_s * ratio),
     )
     heli = heli.with_tail_rotor_speed(tail)
-    heli.validate()
-    run = H.run(heli, H.SolverOptions.from_config({**heli_cfg["solver"], "duration": duration}))
-    case = {"run": "run", "amplitude": amplitude, "amplitude_reading": "dominant", "amplitude_scaling": "per_axis"}
-    ds = cases_dataset({"run": run}, {"case": case}, duration=duration, highpass_hz=highpass_hz, band_hz=band_hz)
-    y, z = (ds.mount_displacement.sel(case="case", axis=a).values for a in ("y", "z"))
-    return ds.time.values, y, z
+    run = H.run(heli, replace(heli.solver, duration=options.duration_s))
+    case = Case(run="run", amplitude=options.amplitude_m, amplitude_reading="dominant", amplitude_scaling="per_axis")
+    t, rows, _ = case_input(
+        run, case, "benchmark", duration=options.duration_s, highpass_hz=options.highpass_hz, band_hz=options.band_hz
+    )
+    return t - t[0], rows["y"], rows["z"]
 
 
 def synthetic_input(spec: dict, *, duration: float, amplitude: float, time_step: float):
@@ -105,27 +176,20 @@ def synthetic_input(spec: dict, *, duration: float, amplitude: float, time_step:
         y, z = (sosfiltfilt(sos, rng.standard_normal(t.size)) for _ in range(2))
         y, z = (x * amplitude / np.sqrt(2.0) / np.std(x) for x in (y, z))
     else:
-        raise ValueError(f"benchmark.synthetic kind: must be one of {KINDS[1:]}, got {kind!r}")
+        raise ValueError(f"benchmark.synthetic kind: must be one of {list(KINDS[1:])}, got {kind!r}")
     return t, y, z
 
 
-def scenario_input(name: str, cfg: dict, heli_cfg: dict, time_step: float) -> xr.Dataset:
-    """The named scenario's input dataset: mount_displacement (axis, time), m; cfg: the benchmark section."""
-    specs = scenario_specs(cfg)
+def scenario_input(name: str, options: ScenarioOptions, heli: HelicopterRun, time_step: float) -> xr.Dataset:
+    """The named scenario's input dataset: mount_displacement (axis, time), m."""
+    specs = scenario_specs(options)
     if name not in specs:
         raise ValueError(f"benchmark scenario: unknown {name!r} (known: {sorted(specs)})")
-    spec, duration, amplitude = specs[name], float(cfg["duration_s"]), float(cfg["amplitude_m"])
+    spec = specs[name]
     if spec["kind"] == "helicopter":
-        t, y, z = helicopter_input(
-            heli_cfg,
-            spec,
-            duration=duration,
-            highpass_hz=float(cfg["highpass_hz"]),
-            amplitude=amplitude,
-            band_hz=tuple(cfg["band_hz"]),
-        )
+        t, y, z = helicopter_input(heli, spec, options)
     else:
-        t, y, z = synthetic_input(spec, duration=duration, amplitude=amplitude, time_step=time_step)
+        t, y, z = synthetic_input(spec, duration=options.duration_s, amplitude=options.amplitude_m, time_step=time_step)
     return xr.Dataset(
         {"mount_displacement": (("axis", "time"), np.stack([y, z]), _ATTRS)},
         coords={

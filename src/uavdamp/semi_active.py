@@ -1,9 +1,7 @@
-"""Semi-active damping laws of the benchmark (issue 13): the `uavdamp.contract.DampingLaw` protocol, plant clips.
+"""Semi-active damping laws of the benchmark: the `uavdamp.contract.DampingLaw` protocol, plant clips.
 
     Hybrid(gain, alpha, ...)       continuous clipped skyhook (alpha 1), groundhook (alpha 0) and Ahmadian's
                                    hybrid skyhook-groundhook (0 < alpha < 1), as a damping coefficient
-    TableModel(table)              the reference table's damping_opt interpolated at (f_y, f_z, K): a model for
-                                   `uavdamp.laws.AnfisLaw` (the table lookup: the baseline the ANFIS must beat)
     ClippedOptimal(...)            Dyke et al. (1996): an LQR force demand on the linear plant's state space from an
                                    observer, asked of the damper only where a damper can give it
     Lagged(law, tau, ...)          a first-order lag of the damping (MR dampers: 10-30 ms), every solver step
@@ -20,12 +18,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import xarray as xr
-from scipy.interpolate import RegularGridInterpolator
 from scipy.linalg import expm, solve_continuous_are, solve_discrete_are
 
 from uavdamp.contract import DamperBounds, Observation, clip
-from uavdamp.statespace import discretise
+from uavdamp.platform.statespace import discretise
 
 _TINY_RATE = 1e-12  # m2 s-2: |v_rel|^2 below this counts as no stroke motion (the projection is undefined)
 
@@ -37,7 +33,7 @@ def projected_damping(force: np.ndarray, v_rel: np.ndarray, c_min: float, c_max:
     if rate2 < _TINY_RATE:
         return c_min
     c = -float(np.dot(force, v_rel)) / rate2
-    return min(c, c_max) if c > 0.0 else c_min
+    return clip(c, DamperBounds(0.0, c_max), math.nan) if c > 0.0 else c_min
 
 
 class Hybrid:
@@ -77,42 +73,6 @@ class Hybrid:
 
     def __call__(self, observation: Observation) -> float:
         return self.decide(observation.base_velocity, observation.mount_velocity)
-
-
-class TableModel:
-    """The reference table as a model: predict([[f_y Hz, f_z Hz, K N/m]]) -> damping_opt, N s m-1.
-
-    table: the reference table (`criterion.reference_table`, over criterion and window, as `table.nc` holds it);
-    criterion, window: the optimum to look up (default: the ones the table names in its attributes, those the
-    ANFIS learns). Trilinear interpolation of `damping_opt` (freq_y, freq_z, stiffness) in (f_y, f_z, log10 K)
-    (choice: K's grid is logarithmic); inputs outside the grid are moved to its edge (choice: no extrapolation); a
-    cell next to a NaN optimum gives NaN (`AnfisLaw` then holds its last demand).
-    """
-
-    def __init__(self, table: xr.Dataset, criterion: str | None = None, window: str | None = None):
-        from uavdamp.criterion import select_table
-
-        if "criterion" in table.dims or "window" in table.dims:
-            criterion = table.attrs["criterion"] if criterion is None else criterion
-            window = table.attrs["window"] if window is None else window
-            table = select_table(table, criterion, window)
-        self.criterion, self.window = table.attrs.get("criterion"), table.attrs.get("window")
-        da = table["damping_opt"].transpose("freq_y", "freq_z", "stiffness")
-        self.axes = (
-            np.asarray(table.freq_y, float),
-            np.asarray(table.freq_z, float),
-            np.log10(np.asarray(table.stiffness, float)),
-        )
-        self._interp = RegularGridInterpolator(self.axes, np.asarray(da.values, float), method="linear")
-
-    def predict(self, X) -> np.ndarray:
-        X = np.atleast_2d(np.asarray(X, dtype=float)).copy()
-        if X.shape[1] != 3:
-            raise ValueError(f"X: expected (n, 3) rows of (f_y Hz, f_z Hz, K N/m), got shape {X.shape}")
-        X[:, 2] = np.log10(X[:, 2])
-        for j, axis in enumerate(self.axes):
-            X[:, j] = np.clip(X[:, j], axis[0], axis[-1])
-        return self._interp(X)
 
 
 class Lagged:
@@ -159,7 +119,7 @@ def damper_input(model, stiffness: float) -> tuple[np.ndarray, np.ndarray]:
 
     A(K, C) = A(K, 0) + C dA exactly (C enters linearly), and dA = -B_f S_rel; B_f is found by least squares and
     checked (ValueError if the plant's damping does not act through the stroke rate)."""
-    from uavdamp.linear_plant import OUTPUTS
+    from uavdamp.platform.linear_plant import OUTPUTS
 
     a0, a1 = model.state_space(stiffness, 0.0), model.state_space(stiffness, 1.0)
     rows = [OUTPUTS.index("stroke_rate_y"), OUTPUTS.index("stroke_rate_z")]
@@ -197,7 +157,7 @@ class ClippedOptimal:
         r_scale: float,
         mode: str = "continuous",
     ):
-        from uavdamp.linear_plant import OUTPUTS
+        from uavdamp.platform.linear_plant import OUTPUTS
 
         if mode not in ("continuous", "on_off"):
             raise ValueError(f"clipped_optimal mode: must be continuous or on_off, got {mode!r}")
@@ -273,6 +233,6 @@ class ClippedOptimal:
                 or (not np.any(present) and float(np.dot(desired, v_rel)) < 0.0)
                 else b.c_min
             )
-        c = min(max(c, b.c_min), b.c_max)  # the law's own record of the force it gets (the plant clips the same)
+        c = clip(c, b, observation.t_now)  # the law's own record of the force it gets (the plant clips the same)
         self._c_prev, self._force = c, -c * v_rel
         return c

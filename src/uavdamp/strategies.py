@@ -11,7 +11,7 @@ comes from the config (``study.strategies``). Adding a strategy is one factory, 
     anfis            the paper's semi-active ANFIS: tracked f_y, f_z (study.tracking.method) and K -> C, every update
     skyhook          Karnopp's on-off skyhook between the damper bounds, every solver step
 
-The benchmark's (issue 13; `uavdamp.semi_active`, `uavdamp.clairvoyant`), with parameters from `Context.tuned`:
+The benchmark's (`uavdamp.semi_active`, `uavdamp.clairvoyant`), with parameters from `Context.tuned`:
     passive_tuned    constant C = tuned["passive_damping"]
     table_lookup     the reference table (`Context.table`) interpolated at the tracked f_y, f_z and K, every update
     skyhook_on_off   Karnopp's on-off skyhook between c_min and tuned["skyhook_c_max"], every solver step
@@ -34,8 +34,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from uavdamp import criterion, laws, registry, tracking
-from uavdamp.contract import DamperBounds
+from uavdamp import laws, registry, tracking
+from uavdamp.contract import DamperBounds, clip
+from uavdamp.reference_table import TableLookup
+from uavdamp.reference_table import criteria as criterion
 
 REGISTRY: dict[str, Callable] = {}
 
@@ -116,7 +118,7 @@ def optimal_passive(ctx: Context) -> Strategy:
 def anfis(ctx: Context) -> Strategy:
     o = ctx.options.tracking
     initial = ctx.model.predict([[o.initial_freq_hz, o.initial_freq_hz, ctx.stiffness]])[0]
-    c_initial = min(max(float(initial), ctx.bounds.c_min), ctx.bounds.c_max)
+    c_initial = clip(initial, ctx.bounds, 0.0)
     track = functools.partial(tracking.frequency_causal, options=o)
     info = {"anfis_initial_damping": (c_initial, "N s m-1", "ANFIS damping before the first frequency estimate")}
     return Strategy("anfis", "isolated", laws.AnfisLaw(ctx.model, ctx.stiffness, c_initial, track), info)
@@ -150,7 +152,7 @@ def best_constant(
     cache: dict[float, float] = {}
 
     def evaluate(c: float) -> float:
-        c = min(max(float(c), bounds.c_min), bounds.c_max)
+        c = clip(c, bounds, math.nan)
         if c not in cache:
             value = float(cost(c))
             cache[c] = value if math.isfinite(value) else math.inf
@@ -169,7 +171,7 @@ def best_constant(
     return c_best, value_best
 
 
-# ------------------------------------------------------------------------------------- the benchmark's (issue 13)
+# ------------------------------------------------------------------------------------- the benchmark's
 
 
 def _tuned(ctx: Context, key: str) -> float:
@@ -192,10 +194,8 @@ def passive_tuned(ctx: Context) -> Strategy:
 
 @register("table_lookup")
 def table_lookup(ctx: Context) -> Strategy:
-    from uavdamp.semi_active import TableModel
-
     table = _needs(ctx, "table_lookup", "table")
-    strategy = anfis(dataclasses.replace(ctx, model=TableModel(table)))
+    strategy = anfis(dataclasses.replace(ctx, model=TableLookup(table)))
     law = strategy.law
     law.name = "table_lookup"
     info = {"table_initial_damping": (law.c_initial, "N s m-1", "table lookup damping before the first estimate")}
@@ -257,7 +257,7 @@ def clairvoyant(ctx: Context) -> Strategy:
     bounds = ctx.bounds
     candidates = np.geomspace(max(bounds.c_min, o.min_damping), bounds.c_max, o.n_candidates)
     if "passive_damping" in ctx.tuned:  # the tuned passive C is a candidate: the bound is never above it
-        candidates = np.append(candidates, min(max(ctx.tuned["passive_damping"], bounds.c_min), bounds.c_max))
+        candidates = np.append(candidates, clip(ctx.tuned["passive_damping"], bounds, 0.0))
     period = ctx.params.update_period
     found = cv.schedule(
         plant,

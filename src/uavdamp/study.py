@@ -15,20 +15,20 @@ import xarray as xr
 
 from uavdamp import metrics, strategies, tracking
 from uavdamp.camera import CameraModel
-from uavdamp.config import load, require, setting
-from uavdamp.excitation import on_grid
-from uavdamp.plants import Plants
+from uavdamp.excitation import ExcitationOptions, on_grid
 from uavdamp.platform import PlatformParams
+from uavdamp.platform.plants import Plants
 from uavdamp.progress import bar
+from uavdamp.settings import attached, require, setting
 from uavdamp.tracking import TrackerOptions
 
 KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # response variables the study keeps
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StudyOptions:
-    """The config's ``study`` section as the runs see it (cases, run length, filter and figures left out), with the
-    top-level ``camera`` section under ``camera`` (the image metrics need it; without it they are skipped)."""
+    """The runs' view of the config's ``study`` section (cases, run length, filter and figures left out), with the
+    top-level ``camera`` section attached (the image metrics need it; without it they are skipped)."""
 
     strategies: tuple[str, ...] = setting()
     stiffness: tuple[float, ...] = setting("stiffness_n_m")  # N m-1
@@ -37,11 +37,7 @@ class StudyOptions:
     early_s: float = setting()  # s, end of the window of peak_early
     settle_s: float = setting()  # s, start of the window of std_settled
     tracking: TrackerOptions = setting()
-    camera: CameraModel | None = setting(default=None)
-
-    @classmethod
-    def from_config(cls, cfg) -> StudyOptions:
-        return load(cls, cfg, "study")
+    camera: CameraModel | None = attached()
 
     def validate(self) -> None:
         unknown = sorted(set(self.strategies) - set(strategies.REGISTRY))
@@ -50,9 +46,43 @@ class StudyOptions:
         require(len(set(self.stiffness)) == len(self.stiffness), "study.stiffness_n_m", "values must be unique")
 
 
-def run_study(cases: xr.Dataset, platform, model, options: StudyOptions, progress: bool = False) -> xr.Dataset:
+@dataclass(frozen=True)
+class Figures:
+    """The cases of the paper-style figures (``study.figures``): Figs. 10 and 11, then 12 and 13."""
+
+    case_1: str = setting()
+    case_2: str = setting()
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudySection(StudyOptions, ExcitationOptions):
+    """The config section ``study``: the cases (`ExcitationOptions`), the runs (`StudyOptions`) and the figures."""
+
+    figures: Figures = setting()
+
+    def validate(self) -> None:
+        StudyOptions.validate(self)
+        ExcitationOptions.validate(self)
+        for key in ("case_1", "case_2"):
+            name = getattr(self.figures, key)
+            require(
+                name in self.cases,
+                f"study.figures.{key}",
+                f"{name!r} is not a case of study.cases ({sorted(self.cases)})",
+            )
+        for key in ("early_s", "settle_s"):
+            value = getattr(self, key)
+            require(
+                value < self.duration_s,
+                f"study.{key}",
+                f"({value} s) must lie inside study.duration_s ({self.duration_s} s)",
+            )
+
+
+def run_study(
+    cases: xr.Dataset, params: PlatformParams, model, options: StudyOptions, progress: bool = False
+) -> xr.Dataset:
     """Simulate every case x stiffness x strategy; return the comparison dataset (`progress`: a console bar)."""
-    params = PlatformParams.from_config(platform)
     plants = Plants(params)
     time = cases.time.values
     per_case = []

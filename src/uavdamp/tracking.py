@@ -24,7 +24,7 @@ import scipy.linalg
 from threadpoolctl import threadpool_limits
 
 from uavdamp import spectrum
-from uavdamp.config import load, require, setting
+from uavdamp.settings import require, setting
 
 METHODS = ("fft", "esprit")
 KEY = "study.tracking"
@@ -62,11 +62,6 @@ class TrackerOptions:
             f"the band [{self.min_freq_hz}, {self.max_freq_hz}] Hz is empty",
         )
         require(self.initial_freq_hz > 0, f"{KEY}.initial_freq_hz", f"must be positive, got {self.initial_freq_hz!r}")
-
-    @classmethod
-    def from_config(cls, cfg) -> TrackerOptions:
-        """From the config's `study.tracking` section; ValueError names the key."""
-        return load(cls, cfg, KEY)
 
 
 def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.ndarray, np.ndarray]:

@@ -33,6 +33,22 @@ def start_log(path: str | os.PathLike) -> None:
     logging.getLogger("uavdamp").info("versions: %s", json.dumps(package_versions(), sort_keys=True))
 
 
+def check_schema(config: dict, schema_path: str | os.PathLike) -> None:
+    """ConfigError naming the dotted key, its value and the rule of the config schema (units, ranges) it breaks.
+
+    jsonschema's most relevant error only, in one line (Snakemake's `validate` prints the whole schema)."""
+    import jsonschema
+    import yaml
+
+    from uavdamp.settings import ConfigError
+
+    schema = yaml.safe_load(Path(schema_path).read_text())
+    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(schema).iter_errors(config))
+    if error is not None:
+        key = ".".join(str(p) for p in error.absolute_path) or "config"
+        raise ConfigError(f"{key}: {error.message} (config schema: {Path(schema_path).name})")
+
+
 def log_info(message: str) -> None:
     logging.getLogger("uavdamp").info(message)
 

@@ -1,31 +1,19 @@
-# The controller benchmark (issue 13): one job per scenario input, tuning on the tuning set only (one job per
-# stiffness), one job per scenario running every controller, then a gather. Logic in src/uavdamp/{scenarios,benchmark}.py.
-from uavdamp.scenarios import scenario_specs
+# The controller benchmark: one job per scenario input, tuning on the tuning set only (one job per stiffness),
+# one job per scenario running every controller, then a gather. Logic in src/uavdamp/{scenarios,benchmark}.py.
+from uavdamp.benchmark import BenchmarkOptions
+from uavdamp.scenarios import ScenarioOptions, scenario_specs
 from uavdamp.scenarios import split as benchmark_split
 
 BENCHMARK = config["benchmark"]
-BENCHMARK_SCENARIOS = sorted(scenario_specs(BENCHMARK))
+BENCHMARK_SCENARIOS = sorted(scenario_specs(TYPED.benchmark))
 BENCHMARK_SPLIT = benchmark_split(
     BENCHMARK_SCENARIOS,
     BENCHMARK["split"]["tuning_fraction"],
     BENCHMARK["split"]["seed"],
 )
 BENCHMARK_TUNING = [n for n in BENCHMARK_SCENARIOS if BENCHMARK_SPLIT[n] == "tuning"]
-BENCHMARK_INPUTS = config_view(
-    BENCHMARK,
-    keep=[
-        "duration_s",
-        "amplitude_m",
-        "highpass_hz",
-        "band_hz",
-        "helicopter",
-        "synthetic",
-    ],
-)
-BENCHMARK_RUNS = config_view(
-    BENCHMARK,
-    keep=["controllers", "stiffness_n_m", "damper_lag_s", "tuning", "clairvoyant"],
-)
+BENCHMARK_INPUTS = canonical(view(BENCHMARK, ScenarioOptions))
+BENCHMARK_RUNS = canonical(view(BENCHMARK, BenchmarkOptions))
 BENCHMARK_STIFFNESS = [
     f"{float(k):g}" for k in BENCHMARK["stiffness_n_m"]
 ]  # one tuning job each
@@ -33,7 +21,6 @@ BENCHMARK_TUNED = expand(
     "reports/benchmark/tuned/K{stiffness}.nc", stiffness=BENCHMARK_STIFFNESS
 )
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
-BENCHMARK_CAMERA = canonical(config["camera"])
 
 
 rule benchmark_scenario:
@@ -73,7 +60,7 @@ rule benchmark_tune:
     params:
         runs=BENCHMARK_RUNS,
         tracking=BENCHMARK_TRACKING,
-        camera=BENCHMARK_CAMERA,
+        camera=CAMERA,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/benchmark_tune.py"
@@ -98,7 +85,7 @@ rule benchmark_run:
     params:
         runs=BENCHMARK_RUNS,
         tracking=BENCHMARK_TRACKING,
-        camera=BENCHMARK_CAMERA,
+        camera=CAMERA,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/benchmark_run.py"

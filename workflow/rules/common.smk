@@ -1,7 +1,14 @@
-# Shared by the rule files: the config views each rule's params receive. A view holds only what the
-# rule uses, with sorted keys (uavdamp.workflow.config_view), so an edit reruns exactly the stages it
-# affects and reordering a YAML file reruns nothing.
-from uavdamp.workflow import canonical, config_view
+# Shared by the rule files: the config views each rule's params receive. A view holds exactly the keys of the
+# typed section class its job parses (uavdamp.settings.view), with sorted keys (uavdamp.workflow.canonical), so
+# an edit reruns exactly the stages it affects and reordering a YAML file reruns nothing.
+from uavdamp.anfis import AnfisOptions
+from uavdamp.excitation import ExcitationOptions
+from uavdamp.helicopter import HelicopterRun
+from uavdamp.platform import PlatformParams
+from uavdamp.reference_table import ReferenceGrid
+from uavdamp.settings import view
+from uavdamp.study import StudyOptions
+from uavdamp.workflow import canonical
 
 ROTORS = ["balanced", "imbalanced"]  # rotor states of the vibration stage
 RUNS = ROTORS + [
@@ -9,24 +16,20 @@ RUNS = ROTORS + [
 ]  # helicopter runs; both_rotors: imbalanced, tail rotor turning
 ENV = "../envs/uavdamp.yaml"
 
+CAMERA = canonical(config["camera"])
 PLATFORM = canonical(config["platform"])
-PLATFORM_MODEL = config_view(config["platform"], drop=["response"])
+PLATFORM_MODEL = canonical(view(config["platform"], PlatformParams))
 # The grid's chunks see what they compute: the grid, its windows and the camera (the blur criterion); not the
 # criterion and window the ANFIS learns (REFERENCE_TARGET), so choosing another reruns the table, not the grid.
-REFERENCE_GRID = config_view(
-    config["reference_table"],
-    drop=["n_chunks", "threads", "flat_tolerance", "verify", "criterion", "window"],
-)
-REFERENCE_CAMERA = canonical(config["camera"])
-REFERENCE_TARGET = config_view(config["reference_table"], keep=["criterion", "window"])
-ANFIS = canonical(config["anfis"])
-STUDY_EXCITATION = config_view(
-    config["study"], keep=["cases", "duration_s", "highpass_hz", "tracking"]
-)
-STUDY_RUNS = {
-    **config_view(
-        config["study"], drop=["cases", "duration_s", "highpass_hz", "figures"]
-    ),
-    "camera": canonical(config["camera"]),
-}
+REFERENCE_GRID = canonical(view(config["reference_table"], ReferenceGrid))
+REFERENCE_TARGET = [
+    config["reference_table"]["criterion"],
+    config["reference_table"]["window"],
+]
+ANFIS = canonical(view(config["anfis"], AnfisOptions))
+STUDY_EXCITATION = canonical(view(config["study"], ExcitationOptions))
+STUDY_RUNS = canonical(view(config["study"], StudyOptions))
 STUDY_FIGURES = canonical(config["study"]["figures"])
+# A run sees the model and its solver, not the analyses' options, so editing `spectrum`, `campbell` or
+# `sensitivity` reruns only the stage that reads it.
+HELICOPTER_RUN = canonical(view(config["helicopter"], HelicopterRun))

@@ -1,7 +1,3 @@
-# Views of the helicopter section: a run sees the model and its solver, not the analyses' options, so editing
-# `spectrum`, `campbell` or `sensitivity` reruns only the stage that reads it.
-HELICOPTER_ANALYSES = ["spectrum", "campbell", "sensitivity"]
-HELICOPTER_RUN = config_view(config["helicopter"], drop=HELICOPTER_ANALYSES)
 HELICOPTER_SENSITIVITY = config["helicopter"]["sensitivity"]
 # one run per value: "baseline" and "<parameter>=<value>" (uavdamp.sensitivity.parse_run_name reads them)
 SENSITIVITY_RUNS = ["baseline"] + [
@@ -43,7 +39,8 @@ rule helicopter_vibration:
     conda:
         ENV
     params:
-        helicopter=config_view(config["helicopter"], drop=["campbell", "sensitivity"]),
+        helicopter=HELICOPTER_RUN,
+        spectrum=canonical(config["helicopter"]["spectrum"]),
         rotors=ROTORS,
     script:
         "../scripts/helicopter_vibration.py"
@@ -83,7 +80,7 @@ rule helicopter_sensitivity_run:
         ENV
     params:
         helicopter=HELICOPTER_RUN,
-        duration=HELICOPTER_SENSITIVITY["duration"],
+        duration_s=HELICOPTER_SENSITIVITY["duration_s"],
     script:
         "../scripts/helicopter_sensitivity_run.py"
 
@@ -105,6 +102,6 @@ rule helicopter_sensitivity:
     params:
         sensitivity=canonical(HELICOPTER_SENSITIVITY),
         spectrum=canonical(config["helicopter"]["spectrum"]),
-        rotor_omega_rad_s=config["helicopter"]["main_rotor"]["omega_rad_s"],
+        helicopter=HELICOPTER_RUN,
     script:
         "../scripts/helicopter_sensitivity.py"

@@ -10,7 +10,7 @@ rule reference_table_chunk:
     threads: config["reference_table"]["threads"]
     params:
         grid=REFERENCE_GRID,
-        camera=REFERENCE_CAMERA,
+        camera=CAMERA,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/reference_table_chunk.py"
@@ -41,7 +41,7 @@ rule reference_table:
     threads: config["reference_table"]["threads"]
     params:
         grid=REFERENCE_GRID,
-        camera=REFERENCE_CAMERA,
+        camera=CAMERA,
         target=REFERENCE_TARGET,
         platform=PLATFORM_MODEL,
         verify=canonical(config["reference_table"]["verify"]),

@@ -64,6 +64,7 @@ rule study:
         ENV
     params:
         study=STUDY_RUNS,
+        camera=CAMERA,
         platform=PLATFORM_MODEL,
         figures=STUDY_FIGURES,
     script:

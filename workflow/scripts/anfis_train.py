@@ -1,14 +1,16 @@
 """Snakemake script: select and train the ANFIS, fit the baselines -> model, training record, rules, figures."""
 
-from uavdamp import io, learning, workflow
+from uavdamp import anfis, io, workflow
 from uavdamp.plots.anfis import membership_figure, selection_figure, training_figure
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
-options = snakemake.params.anfis
+config = snakemake.params.anfis
+options = parse(anfis.AnfisOptions, config, "anfis")
 table, grid = io.open_dataset(snakemake.input.table), io.open_dataset(snakemake.input.grid)
-target = snakemake.params.target  # the reference table's criterion and window the ANFIS learns
-model, record, seconds = learning.train(table, grid, options, target)
-workflow.log_info(f"target: optimal C of the {target['criterion']} criterion, {target['window']} window")
+criterion, window = snakemake.params.target  # the reference table's criterion and window the ANFIS learns
+model, record, seconds = anfis.train(table, grid, options, (criterion, window))
+workflow.log_info(f"target: optimal C of the {criterion} criterion, {window} window")
 a = record.attrs
 cv = "; ".join(
     f"{lab}: {m:.4g} +- {s:.2g}"
@@ -43,5 +45,5 @@ io.save_figure(membership_figure(model.anfis), snakemake.output.membership)
 io.save_figure(training_figure(record), snakemake.output.errors)
 io.save_figure(selection_figure(record), snakemake.output.selection)
 io.write_text(rules + "\n", snakemake.output.rules)
-io.write_netcdf(record, snakemake.output.training, options, section="anfis", command=command)
-io.write_netcdf(model.to_dataset(), snakemake.output.model, options, section="anfis", command=command)
+io.write_netcdf(record, snakemake.output.training, config, section="anfis", command=command)
+io.write_netcdf(model.to_dataset(), snakemake.output.model, config, section="anfis", command=command)

@@ -1,22 +1,20 @@
 """Snakemake script: every benchmark controller on one scenario (wildcard `scenario`) -> its criteria."""
 
-import os
-
-for _name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):  # small matrices: one BLAS thread
-    os.environ.setdefault(_name, "1")
-
-from uavdamp import benchmark, io, learning, workflow  # noqa: E402
-from uavdamp.platform import PlatformParams  # noqa: E402
+from uavdamp import benchmark, io, workflow
+from uavdamp.anfis import DampingModel
+from uavdamp.config import benchmark_options
+from uavdamp.platform import PlatformParams
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 p = snakemake.params
-options = benchmark.BenchmarkOptions.from_config(p.runs, p.tracking, p.camera)
-model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
+options = benchmark_options(p.runs, p.tracking, p.camera)
+model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
 tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
 ds = benchmark.run_scenario(
     io.open_dataset(snakemake.input.scenario),
     tuned,
-    PlatformParams.from_config(p.platform),
+    parse(PlatformParams, p.platform, "platform"),
     options,
     model=model,
     table=io.open_dataset(snakemake.input.table),

@@ -1,18 +1,13 @@
 """Snakemake script: helicopter runs -> the study's input cases (high-passed, scaled)."""
 
 from uavdamp import excitation, io, workflow
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.excitation
+options = parse(excitation.ExcitationOptions, cfg, "study")
 runs = {name: io.open_dataset(path) for name, path in zip(snakemake.params.runs, snakemake.input.runs, strict=True)}
-track = cfg["tracking"]
-ds = excitation.cases_dataset(
-    runs,
-    cfg["cases"],
-    duration=cfg["duration_s"],
-    highpass_hz=cfg["highpass_hz"],
-    band_hz=(track["min_freq_hz"], track["max_freq_hz"]),
-)
+ds = excitation.cases_dataset(runs, options)
 workflow.log_info(
     f"dominant frequency, Hz:\n{ds.dominant_freq.to_pandas()}\nspectral width, Hz:\n{ds.spectral_width.to_pandas()}"
 )

@@ -1,22 +1,21 @@
 """Snakemake script: Campbell diagram of the balanced rotor's coupled modes (multiblade coordinates) -> NetCDF."""
 
-import os
+import numpy as np
+import xarray as xr
 
-os.environ.setdefault("EXUDYN_MODULE", "fast")  # as helicopter_run.py: the same Exudyn module everywhere
-
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from uavdamp import floquet, helicopter, io, rotor_modes, workflow  # noqa: E402
-from uavdamp.plots.helicopter import campbell_figure  # noqa: E402
+from uavdamp import helicopter, io, workflow
+from uavdamp.helicopter import floquet, modes
+from uavdamp.plots.helicopter import campbell_figure
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 cfg, opts = snakemake.params.helicopter, snakemake.params.campbell
-imbalanced = helicopter.Helicopter.from_config(cfg)
+imbalanced = parse(helicopter.HelicopterRun, cfg, "helicopter")
+campbell = parse(helicopter.Campbell, opts, "helicopter.campbell")
 heli = imbalanced.balanced()
-speeds = np.linspace(0.0, opts["max_speed_ratio"] * heli.main_rotor.omega_rad_s, opts["n_speeds"])
-ds = rotor_modes.campbell(heli, speeds, check_azimuths_rad=opts["check_azimuths_rad"])
-ds = xr.merge([ds, floquet.floquet_dataset(imbalanced, opts["floquet_steps"])], combine_attrs="no_conflicts")
+speeds = np.linspace(0.0, campbell.max_speed_ratio * heli.main_rotor.omega_rad_s, campbell.n_speeds)
+ds = modes.campbell(heli, speeds, check_azimuths_rad=campbell.check_azimuths_rad)
+ds = xr.merge([ds, floquet.floquet_dataset(imbalanced, campbell.floquet_steps)], combine_attrs="no_conflicts")
 nominal = ds.sel(rotor_speed=heli.main_rotor.omega_rad_s, method="nearest")
 table = nominal[["frequency", "damping_ratio"]].to_dataframe()
 workflow.log_info(f"modes at {float(nominal.rotor_speed):.2f} rad/s:\n{table}")

@@ -1,22 +1,15 @@
-"""Snakemake script: one helicopter run (balanced or imbalanced rotor) -> NetCDF."""
+"""Snakemake script: one helicopter run (balanced, imbalanced or both rotors) -> NetCDF."""
 
-import os
-
-# Exudyn's AVX2 module without range checks (falls back when the CPU lacks AVX2); set in the environment so
-# that joblib's worker processes load the same module and give bit-identical numbers.
-os.environ.setdefault("EXUDYN_MODULE", "fast")
-
-from uavdamp import helicopter, io, workflow  # noqa: E402
+from uavdamp import helicopter, io, workflow
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.helicopter
-heli = helicopter.Helicopter.from_config(cfg)
+heli = parse(helicopter.HelicopterRun, cfg, "helicopter")
 if snakemake.wildcards.rotor == "balanced":
     heli = heli.balanced()
 elif snakemake.wildcards.rotor == "both_rotors":
-    heli = heli.with_tail_rotor_speed(cfg["tail_rotor"]["omega_running_rad_s"])
-ds = helicopter.run(
-    heli, helicopter.SolverOptions.from_config(cfg["solver"]), progress=f"helicopter {snakemake.wildcards.rotor}"
-)
+    heli = heli.with_tail_rotor_speed(heli.tail_rotor.omega_running_rad_s)
+ds = helicopter.run(heli, heli.solver, progress=f"helicopter {snakemake.wildcards.rotor}")
 workflow.log_info(f"{snakemake.wildcards.rotor}: {ds.attrs}")
 io.write_netcdf(ds, snakemake.output[0], cfg, section="helicopter", command=workflow.snakemake_command(snakemake))

@@ -1,21 +1,20 @@
 """Snakemake script: one sensitivity run of the imbalanced helicopter (wildcard `run`) -> its motion."""
 
-import os
+from dataclasses import replace
 
-os.environ.setdefault("EXUDYN_MODULE", "fast")  # as helicopter_run.py: the same Exudyn module everywhere
-
-from uavdamp import helicopter, io, sensitivity, workflow  # noqa: E402
+from uavdamp import helicopter, io, workflow
+from uavdamp.helicopter import sensitivity
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.helicopter
-heli = helicopter.Helicopter.from_config(cfg)
-options = helicopter.SolverOptions.from_config({**cfg["solver"], "duration": snakemake.params.duration})
-ds = sensitivity.run(heli, snakemake.wildcards.run, options)
+heli = parse(helicopter.HelicopterRun, cfg, "helicopter")
+ds = sensitivity.run(heli, snakemake.wildcards.run, replace(heli.solver, duration=snakemake.params.duration_s))
 workflow.log_info(f"{snakemake.wildcards.run}: done")
 io.write_netcdf(
     ds,
     snakemake.output[0],
-    {**cfg, "sensitivity_duration": snakemake.params.duration},
+    {**cfg, "sensitivity_duration_s": snakemake.params.duration_s},
     section="helicopter",
     command=workflow.snakemake_command(snakemake),
 )

@@ -2,14 +2,17 @@
 
 from uavdamp import helicopter, io, workflow
 from uavdamp.plots.helicopter import fuselage_vibration_figure
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
-cfg = snakemake.params.helicopter
-runs = {rotor: io.open_dataset(path) for rotor, path in zip(snakemake.params.rotors, snakemake.input.runs, strict=True)}
-ds = helicopter.vibration(helicopter.Helicopter.from_config(cfg), runs, **cfg["spectrum"])
+p = snakemake.params
+heli = parse(helicopter.HelicopterRun, p.helicopter, "helicopter")
+options = parse(helicopter.Spectrum, p.spectrum, "helicopter.spectrum")
+runs = {rotor: io.open_dataset(path) for rotor, path in zip(p.rotors, snakemake.input.runs, strict=True)}
+ds = helicopter.vibration(heli, runs, options)
 workflow.log_info(f"dominant omega, rad/s:\n{ds.dominant_omega.to_pandas()}")
-fig = fuselage_vibration_figure(ds)
-io.save_figure(fig, snakemake.output.figure)
+io.save_figure(fuselage_vibration_figure(ds), snakemake.output.figure)
+config = {**p.helicopter, "spectrum": p.spectrum}
 io.write_netcdf(
-    ds, snakemake.output.vibration, cfg, section="helicopter", command=workflow.snakemake_command(snakemake)
+    ds, snakemake.output.vibration, config, section="helicopter", command=workflow.snakemake_command(snakemake)
 )

@@ -2,16 +2,15 @@
 
 from uavdamp import io, workflow
 from uavdamp.excitation import sine_input
-from uavdamp.platform import ExudynPlant, PlatformParams, modes_dataset
+from uavdamp.laws import Constant
+from uavdamp.platform import ExudynPlant, PlatformSection, modes_dataset
 from uavdamp.plots.platform import response_figure
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.platform
-params = PlatformParams.from_config(cfg)
+params = parse(PlatformSection, cfg, "platform")
 response = params.response
-if response is None:
-    raise ValueError("platform.response is required by this stage (the response figure)")
-
 modes = modes_dataset(params)
 for f, target in zip(modes.natural_frequency.values, modes.target_frequency.values, strict=True):
     workflow.log_info(f"mode {f:.4f} Hz (target {target:.2f} Hz, {100 * (f / target - 1):+.3f} %)")
@@ -20,7 +19,7 @@ time, y, z = sine_input(response.freq_y_hz, response.freq_z_hz, response.amplitu
 runs = {}
 for mount in ("rigid", "isolated"):
     plant = ExudynPlant(params, mount=mount)
-    runs[mount] = plant.run(time, y, z, law=response.damping)
+    runs[mount] = plant.run(time, y, z, law=Constant(response.damping))
     peak = abs(runs[mount].camera_displacement).max("time").values
     workflow.log_info(
         f"{mount} mount: build {plant.build_time:.4f} s, solve {plant.solve_time:.3f} s, "

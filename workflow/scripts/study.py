@@ -2,14 +2,21 @@
 
 from pathlib import Path
 
-from uavdamp import io, learning, study, workflow
+from uavdamp import io, study, workflow
+from uavdamp.anfis import DampingModel
+from uavdamp.config import study_options
+from uavdamp.platform import PlatformParams
 from uavdamp.plots import study as plots
+from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
-cfg, fig = snakemake.params.study, snakemake.params.figures
+p = snakemake.params
+cfg, fig = p.study, p.figures
+options = study_options(cfg, p.camera)
+platform = parse(PlatformParams, p.platform, "platform")
 cases = io.open_dataset(snakemake.input.cases)
-model = learning.TableModel.from_dataset(io.open_dataset(snakemake.input.model))
-ds = study.run_study(cases, snakemake.params.platform, model, study.StudyOptions.from_config(cfg), progress=True)
+model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
+ds = study.run_study(cases, platform, model, options, progress=True)
 scalars = [
     v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}
 ]
@@ -26,5 +33,5 @@ folder = Path(snakemake.output.strategies)
 folder.mkdir(parents=True, exist_ok=True)
 for case in ds.case.values:
     io.save_figure(plots.strategies_figure(ds, str(case)), folder / f"{case}.png")
-config = {"study": cfg, "platform": snakemake.params.platform}
+config = {"study": {**cfg, "camera": p.camera}, "platform": p.platform}
 io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=workflow.snakemake_command(snakemake))

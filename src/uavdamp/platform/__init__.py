@@ -1,15 +1,30 @@
-"""The camera platform (SPT 200-like pan-tilt head) on a semi-active Y-Z isolator.
+"""The camera platform (SPT 200-like pan-tilt head) on a semi-active Y-Z isolator, and the plants that run it.
 
-params        PlatformParams: the config section as typed sections
+params        PlatformParams, PlatformSection: the config section as typed sections
 design        closed-form mass matrix and stiffness design (the paper's Table 1 modes)
 model         the Exudyn kinematic tree (assembly)
 exudyn_plant  ExudynPlant: time stepping, the reference plant (`uavdamp.contract.Plant`)
+linear_plant  LinearPlant: the exact linear plant from Exudyn's linearisation
+statespace    exact discretisation and sine responses of a linear time-invariant plant
+plants        which plant runs a strategy
 modes         the clamped platform's modes by eigen-analysis
 """
 
 from uavdamp.platform.design import design_stiffness, mass_matrix
 from uavdamp.platform.exudyn_plant import ExudynPlant
+from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.platform.modes import modes_dataset, natural_frequencies
-from uavdamp.platform.params import PlatformParams
+from uavdamp.platform.params import PlatformParams, PlatformSection
+from uavdamp.platform.plants import Plants
 
-__all__ = ["ExudynPlant", "PlatformParams", "design_stiffness", "mass_matrix", "modes_dataset", "natural_frequencies"]
+__all__ = [
+    "ExudynPlant",
+    "LinearPlant",
+    "PlatformParams",
+    "PlatformSection",
+    "Plants",
+    "design_stiffness",
+    "mass_matrix",
+    "modes_dataset",
+    "natural_frequencies",
+]

@@ -19,9 +19,8 @@ import xarray as xr
 from uavdamp import contract
 from uavdamp.contract import DamperBounds, Observation, SolverFailed
 from uavdamp.excitation import on_grid
-from uavdamp.laws import as_law
 from uavdamp.platform.model import build
-from uavdamp.platform.params import is_multiple
+from uavdamp.platform.params import PlatformParams
 
 
 @dataclass
@@ -53,7 +52,7 @@ class ExudynPlant:
 
     def __init__(
         self,
-        params,
+        params: PlatformParams,
         *,
         mount: str = "isolated",
         body: str = "full",
@@ -70,7 +69,6 @@ class ExudynPlant:
             self.model.mbs.SetPreStepUserFunction(self._pre_step)
         self._solver = exu.MainSolverImplicitSecondOrder()
         self.build_time = _time.perf_counter() - t0
-        self.signal_jacobian_update = True  # False only to measure what the signal saves
         self._error: Exception | None = None
         self._run: RunState | None = None
         self.newton_iterations = self.jacobian_updates = 0
@@ -161,8 +159,7 @@ class ExudynPlant:
         i = self.model.link_index
         self._dvec[i["iso_y"]] = self._dvec[i["iso_z"]] = c
         self.model.mbs.SetObjectParameter(self.model.tree, "jointDControlVector", self._dvec)
-        if self.signal_jacobian_update:
-            self.model.mbs.solverSignalJacobianUpdate = True
+        self.model.mbs.solverSignalJacobianUpdate = True
 
     # ------------------------------------------------------------------ a run
 
@@ -171,9 +168,9 @@ class ExudynPlant:
 
         time (s, from 0, increasing), mount_y, mount_z (m): prescribed fuselage displacement at the mount,
         interpolated linearly onto the solver grid (step params.time_step, up to time[-1]).
-        stiffness: isolator K, N m-1 (default: the configured K). law: a damping law (`uavdamp.laws`), or a
-        number (constant C) or a sequence (schedule), required for the isolated mount and ignored by the rigid
-        one (its damping output is NaN). The law's update period (None: the configured one) must be a multiple
+        stiffness: isolator K, N m-1 (default: the configured K). law: a damping law (`uavdamp.contract.DampingLaw`,
+        e.g. `uavdamp.laws.Constant`), required for the isolated mount and ignored by the rigid one (its damping
+        output is NaN). The law's update period (None: the configured one) must be a multiple
         of the time step. Initial state: undeformed; the mount moves with the input's initial velocity, the base
         is at rest (isolated) or moves with the mount (rigid), the platform is at rest relative to the base.
         Raises ValueError for bad arguments, SolverFailed if the solver stops early; an exception raised by the
@@ -184,21 +181,7 @@ class ExudynPlant:
         h = self.params.time_step
         grid, y, z = on_grid(time, mount_y, mount_z, h)
         isolated = self.mount == "isolated"
-        stiffness = self.params.isolator_stiffness if stiffness is None else float(stiffness)
-        if not (math.isfinite(stiffness) and stiffness > 0):
-            raise ValueError(f"stiffness must be > 0, got {stiffness}")
-        steps_per_update = 1
-        if not isolated:
-            law = None
-        else:
-            if law is None:
-                raise ValueError("damping: a law is required for the isolated mount")
-            law = as_law(law)
-            period = self.params.update_period if law.update_period is None else float(law.update_period)
-            if not is_multiple(period, h):
-                raise ValueError(f"update_period ({period} s) must be a positive multiple of time_step ({h} s)")
-            steps_per_update = int(round(period / h))
-            law.reset()
+        stiffness, law, steps_per_update = contract.prepare_run(self, stiffness, law)
         y.flags.writeable = z.flags.writeable = False  # a law sees views of these
         n = self.model.n
         self._run = RunState(
@@ -208,7 +191,7 @@ class ExudynPlant:
             y.tolist(),
             z.tolist(),
             law,
-            steps_per_update,
+            steps_per_update or 1,
             np.full(grid.size, math.nan),
             integral=np.zeros(n),
             force=np.zeros(n),

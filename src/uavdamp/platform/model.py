@@ -127,10 +127,14 @@ def _control_terms(p: PlatformParams, idx: dict, n: int, body: str, clamped: boo
 
 
 def build(
-    params, *, mount: str = "isolated", body: str = "full", lumped_mass: float | None = None, clamped: bool = False
+    p: PlatformParams,
+    *,
+    mount: str = "isolated",
+    body: str = "full",
+    lumped_mass: float | None = None,
+    clamped: bool = False,
 ) -> PlatformModel:
-    """Assemble the platform (see the module docstring); `params` a `PlatformParams` or the config section."""
-    p = PlatformParams.from_config(params)
+    """Assemble the platform `p` (see the module docstring)."""
     if mount not in MOUNTS:
         raise ValueError(f"mount must be one of {MOUNTS}, got {mount!r}")
     if body not in BODIES:

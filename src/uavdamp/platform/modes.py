@@ -21,9 +21,8 @@ def natural_frequencies(params) -> tuple[np.ndarray, np.ndarray]:
     return freq_hz, shapes
 
 
-def modes_dataset(params) -> xr.Dataset:
+def modes_dataset(p: PlatformParams) -> xr.Dataset:
     """Natural frequencies beside the paper's targets, mode shapes and the designed stiffnesses."""
-    p = PlatformParams.from_config(params)
     freq_hz, shapes = natural_frequencies(p)
     k = design_stiffness(p.structure)
     scalar = {

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from uavdamp.config import load, require, setting
+from uavdamp.settings import require, setting
 
 BACKENDS = ("exudyn", "linear")
 
@@ -115,22 +115,14 @@ class Response:
 
 @dataclass(frozen=True)
 class PlatformParams:
-    """The config section ``platform``: structure, isolator, solver and (optionally) the response figure.
-
-    ``response`` is for the platform stage's figure only: the grid and study rules leave it out of what they
-    receive, so that a figure edit does not rerun them.
-    """
+    """The platform the plants build: structure, isolator, solver and the plant of the isolated runs (``backend``:
+    "linear" or "exudyn", `uavdamp.platform.plants`). The config section without ``response``: what the grid,
+    study and benchmark jobs receive, so that a figure edit does not rerun them."""
 
     structure: Structure
     isolator: Isolator
     solver: Solver
-    backend: str  # the plant of the grid and the isolated study runs: "linear" or "exudyn" (`uavdamp.plants`)
-    response: Response | None = setting(default=None)
-
-    @classmethod
-    def from_config(cls, config) -> PlatformParams:
-        """Validated parameters from the config section (or the parameters themselves); ValueError names the key."""
-        return config if isinstance(config, PlatformParams) else load(cls, config, "platform")
+    backend: str
 
     def validate(self) -> None:
         require(self.backend in BACKENDS, "platform.backend", f"must be one of {list(BACKENDS)}, got {self.backend!r}")
@@ -139,16 +131,6 @@ class PlatformParams:
             "platform.isolator.update_period_s",
             f"({self.isolator.update_period}) must be >= platform.solver.time_step_s ({self.solver.time_step})",
         )
-        if self.response is not None:
-            c = self.response.damping
-            require(
-                self.isolator.damping_min <= c <= self.isolator.damping_max,
-                "platform.response.damping_n_s_m",
-                f"{c} must lie within the damper bounds",
-            )
-        from uavdamp.platform.design import design_stiffness
-
-        design_stiffness(self.structure)  # raises ValueError if the targets cannot be met with these inertias
 
     # the values every plant and law needs, by their short names
     @property
@@ -172,7 +154,17 @@ class PlatformParams:
         return self.isolator.stiffness
 
 
-def is_multiple(period: float, step: float) -> bool:
-    """True if `period` is a positive whole multiple of `step` (to 1e-9 relative)."""
-    n = round(period / step)
-    return n >= 1 and abs(n * step - period) <= 1e-9 * max(period, 1.0)
+@dataclass(frozen=True, kw_only=True)
+class PlatformSection(PlatformParams):
+    """The config section ``platform``: the platform and the platform stage's response figure."""
+
+    response: Response
+
+    def validate(self) -> None:
+        super().validate()
+        c = self.response.damping
+        require(
+            self.isolator.damping_min <= c <= self.isolator.damping_max,
+            "platform.response.damping_n_s_m",
+            f"{c} must lie within the damper bounds [{self.isolator.damping_min}, {self.isolator.damping_max}] N s m-1",
+        )

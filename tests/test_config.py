@@ -1,0 +1,243 @@
+"""The one config layer: every shipped config loads typed, every key is documented, and a bad config is refused
+naming the key and the rule it breaks (`uavdamp.checks.validate`: typed load, schema ranges, cross-section checks).
+
+Each case edits config/quick.yaml's merged config; tests/workflow/test_config_checks.py runs the same refusals
+through Snakemake and checks that no job starts.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import types
+import typing
+
+import pytest
+import yaml
+from conftest import ROOT, deep_update, load_config
+
+from uavdamp import checks, config_docs
+from uavdamp.config import Config
+from uavdamp.settings import RENAMED, ConfigError, key_of
+
+# (override merged over quick.yaml, text the error must contain)
+BAD = {
+    "freq-above-nyquist": (
+        {"reference_table": {"freq_y_hz": {"start": 4.0, "stop": 200.0}}},
+        "reference_table.freq_y_hz: 200 Hz must stay below 0.25 x the Nyquist frequency",
+    ),
+    "response-above-nyquist": (
+        {"platform": {"response": {"freq_z_hz": 40.0}}},
+        "platform.response.freq_z_hz: 40 Hz must stay below",
+    ),
+    "tracking-band-reversed": (
+        {"study": {"tracking": {"min_freq_hz": 12.0, "max_freq_hz": 3.0}}},
+        "study.tracking.max_freq_hz: the band [12.0, 3.0] Hz is empty",
+    ),
+    "duplicated-study-stiffness": (
+        {"study": {"stiffness_n_m": [10.0, 10.0]}},
+        "study.stiffness_n_m: values must be unique",
+    ),
+    "damper-bounds-reversed": (
+        {"platform": {"isolator": {"damping_min_n_s_m": 50.0, "damping_max_n_s_m": 5.0}}},
+        "platform.isolator.damping_max_n_s_m: (5.0) must be >=",
+    ),
+    "grid-window-longer-than-run": (
+        {"reference_table": {"windows_s": {"transient": [0.0, 19.0]}}},
+        "reference_table.windows_s.transient: need [start, end] with 0 <= start < end <= duration_s (1.5 s)",
+    ),
+    "update-period-not-a-multiple": (
+        {"platform": {"isolator": {"update_period_s": 0.5003}}},
+        "platform.isolator.update_period_s: (0.5003 s) must be a whole multiple",
+    ),
+    "duplicated-grid-values": (
+        {"reference_table": {"stiffness_n_m": {"values": [10.0, 10.0]}}},
+        "reference_table.stiffness_n_m: values must be strictly increasing",
+    ),
+    "passive-outside-bounds": (
+        {"study": {"passive_damping_n_s_m": 500.0}},
+        "study.passive_damping_n_s_m: (500.0) must lie within the damper bounds",
+    ),
+    "early-window-after-run": ({"study": {"early_s": 3.0}}, "study.early_s: (3.0 s) must lie inside study.duration_s"),
+    "unknown-strategy": ({"study": {"strategies": ["passive", "telepathy"]}}, "study.strategies: unknown strategy"),
+    "grid-over-budget": (
+        {"reference_table": {"freq_y_hz": {"num": 1000}, "freq_z_hz": {"num": 1000}, "damping_n_s_m": {"num": 1000}}},
+        "budget.max_cpu_hours: the run is estimated at 55.6 CPU hours (grid 2,000,000,000 points",
+    ),
+    "budget-not-positive": ({"budget": {"max_cpu_hours": 0.0}}, "budget.max_cpu_hours: must be > 0"),
+    "figure-case-unknown": ({"study": {"figures": {"case_1": "case9"}}}, "study.figures.case_1: 'case9' is not a case"),
+    # a bad value in every section
+    "helicopter.fuselage": (
+        {"helicopter": {"fuselage": {"mass_kg": -1.0}}},
+        "helicopter.fuselage.mass_kg: must be > 0",
+    ),
+    "helicopter.main_rotor": (
+        {"helicopter": {"main_rotor": {"n_blades": 1}}},
+        "helicopter.main_rotor.n_blades: must be >= 2, got 1",
+    ),
+    "helicopter.solver": ({"helicopter": {"solver": {"step_s": -0.001}}}, "helicopter.solver.step_s: must be > 0"),
+    "helicopter.imbalance": (
+        {"helicopter": {"imbalance": {"blade": 9}}},
+        "helicopter.imbalance.blade: must lie in [0, 3] (helicopter.main_rotor.n_blades = 4), got 9",
+    ),
+    "platform.structure": (
+        {"platform": {"structure": {"camera_mass_kg": 0.0}}},
+        "platform.structure.camera_mass_kg: must be > 0",
+    ),
+    "platform.structure.modes": (
+        {"platform": {"structure": {"natural_frequencies_hz": [6.7, 6.7, 4.5]}}},
+        "platform.structure.natural_frequencies_hz: must be distinct",
+    ),
+    "platform.solver": ({"platform": {"solver": {"time_step_s": 0.0}}}, "platform.solver.time_step_s: must be > 0"),
+    "platform.response": (
+        {"platform": {"response": {"amplitude_m": -1.0}}},
+        "platform.response.amplitude_m: must be > 0",
+    ),
+    "platform.backend": ({"platform": {"backend": "analog"}}, "platform.backend: must be one of ['exudyn', 'linear']"),
+    "reference_table": (
+        {"reference_table": {"flat_tolerance": -0.1}},
+        "reference_table.flat_tolerance: must be >= 0, got -0.1",
+    ),
+    "reference_table.n_chunks": ({"reference_table": {"n_chunks": 0}}, "reference_table.n_chunks: must be >= 1, got 0"),
+    "reference_table.n_chunks-float": (
+        {"reference_table": {"n_chunks": 3.0}},
+        "reference_table.n_chunks: expected an integer, got 3.0",
+    ),
+    "anfis": ({"anfis": {"train_fraction": 1.5}}, "anfis.train_fraction: must lie in (0, 1), got 1.5"),
+    "anfis.epochs-float": ({"anfis": {"epochs": 50.0}}, "anfis.epochs: expected an integer, got 50.0"),
+    "anfis.selection": ({"anfis": {"selection": {"folds": 1}}}, "anfis.selection.folds: must be >= 2, got 1"),
+    "study": ({"study": {"duration_s": -2.0}}, "study.duration_s: must be > 0"),
+    "study.tracking": ({"study": {"tracking": {"method": "music"}}}, "study.tracking.method: must be one of"),
+    "study.cases": (
+        {"study": {"cases": {"case1": {"amplitude_reading": "rms"}}}},
+        "study.cases.case1.amplitude_reading: must be one of ['peak', 'dominant'], got 'rms'",
+    ),
+    "camera": ({"camera": {"exposure_s": -1.0}}, "camera.exposure_s must be a finite number > 0"),
+    "camera.image": ({"camera": {"image_width_px": 0}}, "camera.image_width_px must be a finite number > 0"),
+    "benchmark": ({"benchmark": {"damper_lag_s": 0.0}}, "benchmark.damper_lag_s: must be > 0"),
+    "benchmark.split": (
+        {"benchmark": {"split": {"tuning_fraction": 1.0}}},
+        "benchmark.split.tuning_fraction: must lie in (0, 1)",
+    ),
+    "budget": ({"budget": {"helicopter_cpu_per_simulated_s": -1.0}}, "budget.helicopter_cpu_per_simulated_s"),
+}
+
+UNKNOWN = {
+    "top": ({"camerra": {"x": 1}}, "camerra: unknown key; did you mean camera?"),
+    "helicopter": ({"helicopter": {"rotor_count": 2}}, "helicopter.rotor_count: unknown key"),
+    "platform": (
+        {"platform": {"isolator": {"stiffnes_n_m": 5.0}}},
+        "platform.isolator.stiffnes_n_m: unknown key; did you mean platform.isolator.stiffness_n_m?",
+    ),
+    "reference_table": (
+        {"reference_table": {"window_s": [0.0, 1.0]}},
+        "reference_table.window_s: unknown key; did you mean reference_table.windows_s?",
+    ),
+    "anfis": ({"anfis": {"epoch": 3}}, "anfis.epoch: unknown key; did you mean anfis.epochs?"),
+    "study": ({"study": {"tracking": {"windw_s": 1.0}}}, "study.tracking.windw_s: unknown key; did you mean"),
+    "camera": ({"camera": {"iso": 100}}, "camera.iso: unknown key"),
+    "benchmark": ({"benchmark": {"tunning": {}}}, "benchmark.tunning: unknown key; did you mean benchmark.tuning?"),
+}
+
+
+def _merged(override: dict) -> dict:
+    return deep_update(load_config("quick.yaml"), override)
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_a_bad_value_is_refused_naming_the_key_and_the_rule(case):
+    override, message = BAD[case]
+    with pytest.raises(ValueError) as error:
+        checks.validate(_merged(override))
+    assert message in str(error.value), str(error.value)
+    assert len(str(error.value).splitlines()) <= 3, str(error.value)  # a few lines, not a schema dump
+
+
+@pytest.mark.parametrize("section", sorted(UNKNOWN))
+def test_an_unknown_key_in_every_section_is_refused_with_the_nearest_valid_key(section):
+    override, message = UNKNOWN[section]
+    with pytest.raises(ConfigError) as error:
+        checks.validate(_merged(override))
+    assert message in str(error.value), str(error.value)
+
+
+@pytest.mark.parametrize(
+    "path, old, new",
+    [
+        (["helicopter", "fuselage"], "mass", "helicopter.fuselage.mass_kg"),
+        (["helicopter", "solver"], "duration", "helicopter.solver.duration_s"),
+        (
+            ["helicopter", "sensitivity", "parameters"],
+            "lag_damping",
+            "helicopter.sensitivity.parameters.lag_damping_n_m_s_rad",
+        ),
+        (["reference_table"], "windows", "reference_table.windows_s"),
+        (["study", "cases", "case1"], "amplitude", "study.cases.case1.amplitude_m"),
+    ],
+)
+def test_an_old_key_name_is_refused_naming_its_new_name(path, old, new):
+    config = load_config("quick.yaml")
+    section = config
+    for key in path:
+        section = section[key]
+    section[old] = section.pop(new.rsplit(".", 1)[1])
+    with pytest.raises(ConfigError, match=re.escape(f"{'.'.join(path)}.{old}: renamed to {new}")):
+        checks.validate(config)
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "quick.yaml"])
+def test_every_shipped_config_loads_through_the_one_config_layer(name):
+    typed, estimate = checks.validate(load_config(name))
+    assert isinstance(typed, Config) and estimate["cpu_s"] > 0
+
+
+def _typed_keys(cls, prefix: str = "", mappings: set | None = None) -> set[str]:
+    """Every dotted config key of section class `cls`: NAME for a name in a mapping of sections, [] for an entry of
+    a list of sections; `mappings` collects the keys that are mappings of plain values (names the schema lists)."""
+    out = set()
+    hints = typing.get_type_hints(cls)
+    for f in dataclasses.fields(cls):
+        if not f.metadata.get("config", True):
+            continue
+        key = prefix + key_of(cls, f.name)
+        out.add(key)
+        kind = hints[f.name]
+        if typing.get_origin(kind) in (typing.Union, types.UnionType):
+            kind = next(a for a in typing.get_args(kind) if a is not type(None))
+        args = typing.get_args(kind)
+        if typing.get_origin(kind) is dict and dataclasses.is_dataclass(args[1]):
+            out |= {key + ".NAME"} | _typed_keys(args[1], key + ".NAME.", mappings)
+        elif typing.get_origin(kind) is dict and mappings is not None:
+            mappings.add(key)
+        elif typing.get_origin(kind) is tuple and dataclasses.is_dataclass(args[0]):
+            out |= {key + "[]"} | _typed_keys(args[0], key + "[].", mappings)
+        elif dataclasses.is_dataclass(kind):
+            out |= _typed_keys(kind, key + ".", mappings)
+    return out
+
+
+def _schema() -> dict:
+    return yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
+
+
+def test_the_config_reference_is_generated_from_the_schema_and_current():
+    readme = (ROOT / "config" / "README.md").read_text()
+    assert readme == config_docs.update_readme(readme, _schema()), "run: python -m uavdamp.config_docs"
+
+
+def test_every_typed_key_is_in_the_schema_and_documented_and_no_other():
+    """The typed sections and the schema name the same keys; the reference documents each one."""
+    documented = set(re.findall(r"^\| `([^`]+)` \|", (ROOT / "config" / "README.md").read_text(), re.MULTILINE))
+    mappings: set = set()
+    typed = {k for k in _typed_keys(Config, "", mappings) if "." in k}  # the sections head their own tables
+    assert sorted(typed - documented) == [], "typed keys missing from the schema (and so from config/README.md)"
+    stale = sorted(k for k in documented - typed if k.rsplit(".", 1)[0] not in mappings)
+    assert stale == [], "schema keys no section class reads"
+
+
+def test_every_renamed_key_names_a_key_that_exists():
+    documented = (ROOT / "config" / "README.md").read_text()
+    keys = _typed_keys(Config)
+    for old, new in RENAMED.items():
+        key = f"{old.rsplit('.', 1)[0]}.{new}".replace("*", "NAME")
+        assert key in keys or f"`{key}`" in documented, (old, new)

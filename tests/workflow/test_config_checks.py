@@ -1,0 +1,61 @@
+"""Bad configs are refused by Snakemake before any job (`uavdamp.checks.validate`, tests/test_config.py).
+
+Each case edits config/quick.yaml's merged config through one more --configfile; Snakemake must exit non-zero
+naming the key, start no job and leave the previous outputs untouched.
+"""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+from conftest import copy_workflow, snakemake
+
+# (override merged over quick.yaml, text the error must contain): the same refusals as tests/test_config.py
+BAD = {
+    "freq-above-nyquist": (
+        {"reference_table": {"freq_y_hz": {"start": 4.0, "stop": 200.0}}},
+        "reference_table.freq_y_hz: 200 Hz must stay below 0.25 x the Nyquist frequency",
+    ),
+    "duplicated-study-stiffness": (
+        {"study": {"stiffness_n_m": [10.0, 10.0]}},
+        "study.stiffness_n_m: values must be unique",
+    ),
+    "tracking-band-reversed": (
+        {"study": {"tracking": {"min_freq_hz": 12.0, "max_freq_hz": 3.0}}},
+        "study.tracking.max_freq_hz: the band [12.0, 3.0] Hz is empty",
+    ),
+}
+
+
+@pytest.fixture(scope="module")
+def workdir(tmp_path_factory):
+    """A scratch workflow with a previous output in place, which no refused run may touch."""
+    work = copy_workflow(tmp_path_factory.mktemp("refuse"))
+    previous = work / "reports" / "study" / "comparison.nc"
+    previous.parent.mkdir(parents=True)
+    previous.write_text("previous good result")
+    return work
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_snakemake_refuses_before_any_job(workdir, case):
+    """Through Snakemake: non-zero exit naming the key, no job started, the previous output untouched."""
+    override, message = BAD[case]
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump(override))
+    result = snakemake(workdir, "-j1", "all", "--configfile", "config/quick.yaml", "config/bad.yaml", timeout=300)
+    output = result.stdout + result.stderr
+    assert result.returncode != 0, output[-2000:]
+    assert message in output, output[-3000:]
+    assert "Building DAG" not in output and "localrule" not in output and "rule " not in output, output[-2000:]
+    files = sorted(p.relative_to(workdir).as_posix() for p in (workdir / "reports").rglob("*") if p.is_file())
+    assert files == ["reports/study/comparison.nc"], files
+    assert (workdir / "reports/study/comparison.nc").read_text() == "previous good result"
+
+
+def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):
+    """A dry run shows the counts and the CPU estimate: 3 x 3 x 2 x 4 grid points, 3 helicopter runs of 4 s and the
+    sensitivity runs (8 of 2 s), 2 cases x 2 K x (5 strategies + 5 candidates + 20 refinements) study runs."""
+    work = copy_workflow(tmp_path)
+    result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert "uavdamp plan: 72 grid points, 28 simulated s of helicopter, 120 study runs: about" in result.stderr

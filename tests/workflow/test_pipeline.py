@@ -1,0 +1,125 @@
+"""The Snakemake workflow: lint, formatting, config validation, an end-to-end quick run, CF compliance."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from conftest import ROOT, copy_workflow, snakemake
+
+from uavdamp import io
+
+
+def test_snakemake_lint_clean(tmp_path):
+    result = snakemake(copy_workflow(tmp_path), "--lint", timeout=300)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "Lints for" not in result.stdout + result.stderr, result.stdout + result.stderr
+
+
+def test_snakefmt_clean():
+    snakefmt = shutil.which("snakefmt", path=str(Path(sys.executable).parent)) or shutil.which("snakefmt")
+    assert snakefmt, "snakefmt is a test dependency"
+    files = [ROOT / "workflow" / "Snakefile", *sorted((ROOT / "workflow" / "rules").glob("*.smk"))]
+    result = subprocess.run([snakefmt, "--check", *map(str, files)], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def _bad(config: dict, path: list[str], value) -> dict:
+    node = config
+    for key in path[:-1]:
+        node = node[key]
+    if value is KeyError:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+    return config
+
+
+@pytest.mark.parametrize(
+    "path, value, named",
+    [
+        (["helicopter", "fuselage", "mass_kg"], -2200.0, "helicopter.fuselage.mass_kg: must be > 0"),
+        (["helicopter", "main_rotor", "n_blades"], "four", "helicopter.main_rotor.n_blades: expected an integer"),
+        (["helicopter", "main_rotor", "omega_rad_s"], KeyError, "helicopter.main_rotor.omega_rad_s: missing key"),
+        (["helicopter", "solver", "step_s"], 0.0, "helicopter.solver.step_s: must be > 0"),
+        (
+            ["helicopter", "main_rotor", "blade_lenght_m"],
+            4.91,
+            "helicopter.main_rotor.blade_lenght_m: unknown key; did you mean helicopter.main_rotor.blade_length_m?",
+        ),
+        (
+            ["helicopter", "fuselage", "mass"],
+            2200.0,
+            "helicopter.fuselage.mass: renamed to helicopter.fuselage.mass_kg",
+        ),
+    ],
+    ids=["negative-mass", "wrong-type", "missing-key", "zero-step", "misspelt-key", "old-key-name"],
+)
+def test_bad_config_refused_before_any_job(tmp_path, path, value, named):
+    workdir = copy_workflow(tmp_path)
+    config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+    (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(_bad(config, path, value)))
+    result = snakemake(workdir, "-j1", "all", timeout=300)
+    output = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert named in output, output[-2000:]
+    assert len(output.splitlines()) < 40, output  # a few lines naming the key, not a schema dump
+    assert not (workdir / "reports").exists()
+
+
+def test_quick_study_end_to_end(quick_run):
+    vib = io.open_dataset(quick_run / "reports/helicopter/vibration.nc")
+    assert set(vib.rotor.values) == {"balanced", "imbalanced"}
+    assert list(vib.axis.values) == ["x", "y", "z"]
+    assert vib.displacement.dims == ("rotor", "axis", "time")
+    assert vib.dominant_omega.attrs["units"] == "rad s-1"
+    omega = yaml.safe_load((ROOT / "config/config.yaml").read_text())["helicopter"]["main_rotor"]["omega_rad_s"]
+    # even the 4 s quick record puts the lateral vibration at the 1/rev imbalance frequency
+    assert float(vib.dominant_omega.sel(rotor="imbalanced", axis="y")) == pytest.approx(omega, rel=0.02)
+    imbalanced = np.abs(vib.displacement.sel(rotor="imbalanced")).max()
+    balanced = np.abs(vib.displacement.sel(rotor="balanced")).max()
+    assert float(balanced) < 1e-6 * float(imbalanced)
+    config = io.read_config_attr(vib, "helicopter")
+    assert config["solver"]["duration_s"] == 4.0  # the quick override reached the job
+    assert (quick_run / "reports/figures/fuselage_vibration.png").stat().st_size > 10_000
+    assert (quick_run / "reports/logs/helicopter_vibration.log").exists()
+    assert (quick_run / "reports/benchmarks/helicopter_run_imbalanced.tsv").exists()
+
+
+def test_every_netcdf_passes_cf_checker(quick_run, tmp_path):
+    cchecker = shutil.which("cchecker.py", path=str(Path(sys.executable).parent)) or shutil.which("cchecker.py")
+    assert cchecker, "compliance-checker is a test dependency"
+    files = sorted((quick_run / "reports").rglob("*.nc"))
+    assert files
+    for path in files:
+        report = tmp_path / (path.stem + ".json")
+        subprocess.run(
+            [cchecker, "--test", "cf:1.11", "--format", "json", "--output", str(report), str(path)],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        result = json.loads(report.read_text())["cf:1.11"]
+        errors = [check for check in result["high_priorities"] if check["value"][0] < check["value"][1]]
+        assert result["high_priorities"] and errors == [], f"{path.name}: {errors}"
+
+
+def test_config_edit_reruns_only_affected_rules(quick_run, tmp_path):
+    """Editing the spectrum options reruns the spectrum rule, not the 2 simulations."""
+    config = yaml.safe_load((quick_run / "config" / "quick.yaml").read_text())
+    config["helicopter"]["spectrum"] = {"min_omega_rad_s": 25.0}
+    edited = quick_run / "config" / "edited.yaml"
+    edited.write_text(yaml.safe_dump(config))
+    result = snakemake(
+        quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", "config/edited.yaml", timeout=300
+    )
+    assert result.returncode == 0, result.stderr
+    plan = result.stdout + result.stderr
+    assert "helicopter_vibration" in plan
+    assert "helicopter_run" not in plan

@@ -1,0 +1,142 @@
+"""Rerun promises for an edit of every config section, and two full quick runs compared file by file.
+
+workflow/rules/common.smk promises that a rule's params hold only what the rule uses, with sorted keys, so an
+edit reruns exactly the stages it affects (and those downstream of them) and reordering keys reruns nothing.
+Each case edits config/quick.yaml's merged config and asks Snakemake for a dry run on the finished quick run.
+"""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+import yaml
+from conftest import copy_workflow, load_config, snakemake
+from conftest import planned_rules as dry_run_rules
+
+from uavdamp import io
+
+HELICOPTER_ALL = {
+    "helicopter_run",
+    "helicopter_vibration",
+    "helicopter_campbell",
+    "helicopter_sensitivity_run",
+    "helicopter_sensitivity",
+    "excitation",
+    "study",
+}
+GRID_DOWN = {"reference_table_chunk", "reference_table", "anfis", "study"}
+
+# name: (path of the edited key, new value or a function of the old one, rules the dry run must plan besides "all")
+EDITS = {
+    "helicopter.fuselage.mass_kg": (("helicopter", "fuselage", "mass_kg"), lambda v: v * 1.01, HELICOPTER_ALL),
+    "helicopter.campbell.n_speeds": (("helicopter", "campbell", "n_speeds"), lambda v: v + 2, {"helicopter_campbell"}),
+    "helicopter.sensitivity.duration_s": (
+        ("helicopter", "sensitivity", "duration_s"),
+        lambda v: v + 0.5,
+        {"helicopter_sensitivity_run", "helicopter_sensitivity"},
+    ),
+    "platform.structure.camera_mass_kg": (
+        ("platform", "structure", "camera_mass_kg"),
+        lambda v: v * 1.01,
+        {"platform_modes"} | GRID_DOWN,
+    ),
+    "platform.response.duration_s": (("platform", "response", "duration_s"), lambda v: v + 0.5, {"platform_modes"}),
+    "platform.isolator.damping_max_n_s_m": (
+        ("platform", "isolator", "damping_max_n_s_m"),
+        lambda v: v * 1.1,
+        {"platform_modes"} | GRID_DOWN,
+    ),
+    "reference_table.damping_n_s_m": (("reference_table", "damping_n_s_m", "num"), lambda v: v + 1, GRID_DOWN),
+    "reference_table.flat_tolerance": (
+        ("reference_table", "flat_tolerance"),
+        lambda v: v * 2,
+        {"reference_table", "anfis", "study"},
+    ),
+    "anfis.ridge": (("anfis", "ridge"), lambda v: v + 1e-6, {"anfis", "study"}),
+    "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
+    "study.tracking.window_s": (("study", "tracking", "window_s"), lambda v: v * 0.8, {"excitation", "study"}),
+    "study.figures.case_1": (("study", "figures", "case_1"), lambda v: "case2", {"study"}),
+    # the grid's blur criterion uses the camera: its chunks, the table, the ANFIS and the study rerun
+    "camera.exposure_s": (
+        ("camera", "exposure_s"),
+        lambda v: v * 2,
+        {"reference_table_chunk", "reference_table", "anfis", "study"},
+    ),
+}
+
+
+def planned_rules(workdir, config: dict) -> set[str]:
+    """The rules a dry run of `all` would run with `config` as the one config file (the job-count table)."""
+    edited = workdir / "config" / "edited.yaml"
+    edited.write_text(yaml.safe_dump(config, sort_keys=False))
+    result = snakemake(workdir, "-n", "-j1", "all", "--configfile", str(edited.relative_to(workdir)), timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    return dry_run_rules(result)
+
+
+@pytest.mark.parametrize("name", sorted(EDITS))
+def test_an_edit_of_every_section_reruns_exactly_its_stages(quick_run, name):
+    path, change, expected = EDITS[name]
+    config = load_config("quick.yaml")
+    node = config
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = change(node[path[-1]])
+    assert planned_rules(quick_run, config) == expected | {"all"}
+
+
+def _reversed(value):
+    if isinstance(value, dict):
+        return {key: _reversed(value[key]) for key in reversed(list(value))}
+    return copy.deepcopy(value)
+
+
+def test_reordered_keys_rerun_nothing(quick_run):
+    assert planned_rules(quick_run, _reversed(load_config("quick.yaml"))) == set()
+
+
+def test_the_same_config_reruns_nothing(quick_run):
+    assert planned_rules(quick_run, load_config("quick.yaml")) == set()
+
+
+# attrs that record when and how fast a file was made, not what it holds
+PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall_time_s"}
+
+
+def _attrs(attrs: dict, workdir) -> dict:
+    """Attributes less PROVENANCE, with the run's folder (in config_files) written as <workdir>."""
+    return {
+        k: v.replace(str(workdir), "<workdir>") if isinstance(v, str) else v
+        for k, v in attrs.items()
+        if k not in PROVENANCE
+    }
+
+
+def assert_same_netcdf_files(first, second) -> int:
+    """Every NetCDF under first/reports and second/reports: the same names, values and attributes; their count."""
+    first_files = sorted(p.relative_to(first) for p in (first / "reports").rglob("*.nc"))
+    second_files = sorted(p.relative_to(second) for p in (second / "reports").rglob("*.nc"))
+    assert first_files == second_files
+    for rel in first_files:
+        a, b = io.open_dataset(first / rel), io.open_dataset(second / rel)
+        assert set(a.variables) == set(b.variables), rel
+        for name in a.variables:
+            np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=f"{rel}: {name}")
+            assert a[name].attrs.keys() == b[name].attrs.keys(), f"{rel}: {name}"
+            for key, value in a[name].attrs.items():
+                np.testing.assert_array_equal(value, b[name].attrs[key], err_msg=f"{rel}: {name}.{key}")
+        attrs_a, attrs_b = _attrs(a.attrs, first), _attrs(b.attrs, second)
+        assert attrs_a.keys() == attrs_b.keys(), rel
+        for key in attrs_a:
+            np.testing.assert_array_equal(attrs_a[key], attrs_b[key], err_msg=f"{rel}: attribute {key}")
+    return len(first_files)
+
+
+def test_two_quick_runs_give_identical_netcdf_files(quick_run, tmp_path):
+    """A second full quick run in another folder: every NetCDF holds the same names, values and attributes."""
+    second = copy_workflow(tmp_path / "second")
+    result = snakemake(second, "-j2", "all", "benchmark", "--configfile", "config/quick.yaml")
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert assert_same_netcdf_files(quick_run, second) > 10
