@@ -3,10 +3,10 @@
 Columns: "default threads" is ``ANFIS.fit`` as shipped, called with the process's default BLAS
 threads; "one thread" is the same fit called inside ``threadpoolctl.threadpool_limits(1)``;
 "no internal limit" is the default-threads fit with fit's own one-thread limit lifted
-(``uavdamp.anfis.threadpool_limits`` replaced by a no-op), i.e. the behaviour before issue 16.
+(``uavdamp.anfis.threadpool_limits`` replaced by a no-op), i.e. a fit without its own thread limit.
 
 Run: PYTHONPATH=src python benchmarks/bench_anfis.py [--repeats 3] [--epochs 50]
-Target (issue 16): default threads never slower than one thread (ratio <= 1 up to timing noise).
+Target: default threads never slower than one thread (ratio <= 1 up to timing noise).
 """
 
 from __future__ import annotations

@@ -1,10 +1,10 @@
-"""Mutation testing of the numeric core with mutmut 3 (issue 17): run it and write the report.
+"""Mutation testing of the numeric core with mutmut 3: run it and write the report.
 
 Slow (tens of minutes on 2 cores), so not part of CI. From the repository root:
 
-    /work/venv/bin/python benchmarks/mutation.py run        # fresh run: deletes mutants/, mutates, tests
-    /work/venv/bin/python benchmarks/mutation.py retest     # retest the surviving mutants only (after adding tests)
-    /work/venv/bin/python benchmarks/mutation.py report     # docs/mutation.md's table from mutants/*.meta
+    .venv/bin/python benchmarks/mutation.py run        # fresh run: deletes mutants/, mutates, tests
+    .venv/bin/python benchmarks/mutation.py retest     # retest the surviving mutants only (after adding tests)
+    .venv/bin/python benchmarks/mutation.py report     # docs/mutation.md's table from mutants/*.meta
 
 The modules and the test selection are pyproject.toml's [tool.mutmut] table. mutmut maps every mutated
 function to the tests that call it and runs only those for its mutants. Mutants judged equivalent (no

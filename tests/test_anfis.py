@@ -556,7 +556,7 @@ def test_subtractive_init_sigmas_and_rule_count():
 
 
 # ----------------------------------------------------------------------------------------------------
-# The ANFIS learning rule's linear algebra and step-size rule against independent computations (issue 17).
+# The ANFIS learning rule's linear algebra and step-size rule against independent computations.
 
 
 def _problem(n: int, n_rules: int, seed: int = 4):

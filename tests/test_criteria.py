@@ -192,7 +192,7 @@ def test_figures_draw_every_criterion_window_and_strategy():
 
 
 # ----------------------------------------------------------------------------------------------------
-# The camera criterion and the reference-table reductions against closed forms (issue 17's planted bugs).
+# The camera criterion and the reference-table reductions against closed forms (planted bugs the mutation run found).
 
 DT = 1e-3  # s
 

@@ -1,4 +1,4 @@
-"""Figures checked for content: the plotted data read back from the axes (issue 17), not the PNG's size."""
+"""Figures checked for content: the plotted data read back from the axes, not the PNG's size."""
 
 from __future__ import annotations
 

@@ -251,7 +251,7 @@ def test_skyhook_in_the_plant(params):
 
 
 # ----------------------------------------------------------------------------------------------------
-# Damping laws, the metric registry and the image metrics' window: closed forms and exact messages (issue 17).
+# Damping laws, the metric registry and the image metrics' window: closed forms and exact messages.
 
 
 def _obs(t_now: float = 0.0) -> Observation:

@@ -212,7 +212,7 @@ def test_switching_every_step_between_two_levels_costs_two_discretisations(monke
 
 def _independent_criteria(ds, window, camera) -> dict:
     """The three criteria of one response over `window` by another route: numpy over the window's samples and
-    the image metrics of issue 12 (exact pinhole projection, `image_quality.image_metrics`)."""
+    the image metrics (exact pinhole projection, `image_quality.image_metrics`)."""
     t = ds.time.values
     keep = (t >= window[0] - 1e-9) & (t <= window[1] + 1e-9)
     disp = ds.camera_displacement.values[:, keep]
@@ -294,7 +294,7 @@ def test_input_starting_away_from_zero_matches_exudyn(request, fixture):
 
 
 # ----------------------------------------------------------------------------------------------------
-# The linear plant's outputs and the state-space helpers against closed forms (issue 17 survivors).
+# The linear plant's outputs and the state-space helpers against closed forms.
 
 
 def test_sine_outputs_carry_the_feedthrough_of_u_and_v():

@@ -1,4 +1,4 @@
-"""The study's metrics against closed forms on hand-built responses (issue 17's planted bugs).
+"""The study's metrics against closed forms on hand-built responses (planted bugs the mutation run found).
 
 A response here is `contract.response_dataset` of chosen arrays, so every expected value is a closed form:
 sampled sines over whole periods (sum sin^2 = N / 2, sum sin = 0), a planted peak, and C w^2 X^2 T / 2 per

@@ -1,4 +1,4 @@
-"""Laws that hold for all inputs, checked with hypothesis (issue 17).
+"""Laws that hold for all inputs, checked with hypothesis.
 
 - the camera criterion is invariant to a constant offset of either axis (a standard deviation);
 - a clipped demand never leaves the damper bounds, and a demand inside them passes unchanged;

@@ -1,4 +1,4 @@
-"""The benchmark's semi-active laws: each one's defining property (issue 13)."""
+"""The benchmark's semi-active laws: each one's defining property."""
 
 import math
 

@@ -74,8 +74,11 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     eigenvalues z of the least-squares rotation between the subspace's first and last N // 2 - 1 rows
     are the model's poles, f = arg(z) / (2 pi dt). The amplitudes come from a least-squares fit of
     all the (possibly damped) exponentials z^n to the segment: amplitude = 2 |c| times the
-    RMS of the envelope |z|^n over the window (the signal's unit). Poles with arg 0 or pi (real z)
-    are left out of the result; the line's double pole may come back as a pair at a near-zero frequency.
+    RMS of the envelope |z|^n over the window (the signal's unit). Poles with arg 0 or pi (real z) are
+    left out of the result, and so are the straight line's: its double pole at z = 1 is split by round-off
+    into a pair at |arg z| of order sqrt(eps) (a double eigenvalue moves by the square root of a perturbation),
+    so poles with |arg z| < n sqrt(eps) rad (a millionth of a cycle per sample or less at n = 500) are the
+    trend, not lines (machine-independent: no line of the tracker's band comes near it).
     """
     x = np.asarray(segment, dtype=float)
     n = x.size
@@ -95,7 +98,8 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     with threadpool_limits(1):
         coef = scipy.linalg.lstsq(basis, x.astype(complex))[0]
     angle = np.angle(z)
-    line = (angle > 1e-9) & (angle < np.pi - 1e-9)
+    trend = n * np.sqrt(np.finfo(float).eps)  # rad: the round-off split of the line's double pole at z = 1
+    line = (angle > trend) & (angle < np.pi - 1e-9)
     order = np.argsort(angle[line])
     return angle[line][order] / (2 * np.pi * dt), 2 * np.abs(coef[line][order])
 

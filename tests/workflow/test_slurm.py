@@ -29,7 +29,9 @@ SUBMITTED = re.compile(r"Job (\d+) has been submitted with SLURM jobid (\d+) \(l
 
 
 def _load_cluster_module():
-    spec = importlib.util.spec_from_file_location("uavdamp_test_slurm_cluster", ROOT / "tests/workflow/slurm/cluster.py")
+    spec = importlib.util.spec_from_file_location(
+        "uavdamp_test_slurm_cluster", ROOT / "tests/workflow/slurm/cluster.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

@@ -267,6 +267,32 @@ def _with_rotor_speed(heli: Helicopter, omega_rad_s: float) -> Helicopter:
     return replace(heli, main_rotor=replace(heli.main_rotor, omega_rad_s=float(omega_rad_s)))
 
 
+def _modes_over_speeds(heli: Helicopter, speeds: np.ndarray, check_azimuths_rad):
+    """Per rotor speed: eigenvalues, mode shapes, energy shares, periodicity residual; and the coordinate names."""
+    lams, shapes, shares, residual = [], [], [], []
+    for omega in speeds:
+        h = _with_rotor_speed(heli, omega)
+        (mz, dz, kz), names = multiblade_system(h, 0.0)
+        lam, vec = modes(mz, dz, kz)
+        energy = np.abs(vec) ** 2 * np.diag(mz)[:, None]
+        lams.append(lam)
+        shapes.append(vec)
+        shares.append(energy / np.maximum(energy.sum(axis=0), np.finfo(float).tiny))
+        residual.append(periodicity_residual(h, check_azimuths_rad, reference=(mz, dz, kz)))
+    return lams, shapes, shares, residual, names
+
+
+_CAMPBELL_ATTRS = {
+    "frequency": ("rad s-1", "modal angular frequency, fixed frame"),
+    "frequency_hz": ("Hz", "modal frequency, fixed frame"),
+    "damping_ratio": ("1", "modal damping ratio -Re(s)/|s| (NaN for a rigid-body zero root)"),
+    "decay_rate": ("s-1", "modal decay rate -Re(s)"),
+    "mac": ("1", "modal assurance criterion of the match with the neighbouring rotor speed towards the nominal one"),
+    "energy_share": ("1", "share of the mode's kinetic energy in each multiblade coordinate (diagonal of M)"),
+    "periodicity_residual": ("1", "largest relative change of the multiblade matrices with rotor azimuth"),
+}
+
+
 def campbell(heli: Helicopter, rotor_speeds_rad_s, *, check_azimuths_rad=(0.4, 1.3)) -> xr.Dataset:
     """Coupled rotor-fuselage modes of the balanced helicopter against main rotor speed (rad/s).
 
@@ -279,75 +305,34 @@ def campbell(heli: Helicopter, rotor_speeds_rad_s, *, check_azimuths_rad=(0.4, 1
     speeds = np.asarray(rotor_speeds_rad_s, dtype=float)
     if speeds.ndim != 1 or speeds.size < 1 or np.any(speeds < 0) or np.any(np.diff(speeds) <= 0):
         raise ValueError(f"rotor_speeds_rad_s: must be non-negative and increasing, got {speeds}")
-    lams, shapes, shares, residual = [], [], [], []
-    for omega in speeds:
-        h = _with_rotor_speed(heli, omega)
-        (mz, dz, kz), names = multiblade_system(h, 0.0)
-        lam, vec = modes(mz, dz, kz)
-        energy = np.abs(vec) ** 2 * np.diag(mz)[:, None]
-        lams.append(lam)
-        shapes.append(vec)
-        shares.append(energy / np.maximum(energy.sum(axis=0), np.finfo(float).tiny))
-        residual.append(periodicity_residual(h, check_azimuths_rad, reference=(mz, dz, kz)))
+    lams, shapes, shares, residual, names = _modes_over_speeds(heli, speeds, check_azimuths_rad)
     start = int(np.argmin(np.abs(speeds - heli.main_rotor.omega_rad_s)))
     order, score = track(shapes, start, lams)
     lam = np.array([lams[s][order[s]] for s in range(speeds.size)]).T  # (mode, speed)
     share = np.array([shares[s][:, order[s]] for s in range(speeds.size)]).transpose(2, 0, 1)
     labels = mode_labels(shapes[start][:, order[start]], share[:, start, :], names, lam[:, start].imag, speeds[start])
     size = np.abs(lam)
-    damping = np.where(size > 0, -lam.real / np.where(size > 0, size, 1.0), np.nan)
     dims = ("mode", "rotor_speed")
-    return xr.Dataset(
-        {
-            "frequency": (dims, lam.imag, {"units": "rad s-1", "long_name": "modal angular frequency, fixed frame"}),
-            "frequency_hz": (
-                dims,
-                lam.imag / (2 * np.pi),
-                {"units": "Hz", "long_name": "modal frequency, fixed frame"},
-            ),
-            "damping_ratio": (
-                dims,
-                damping,
-                {"units": "1", "long_name": "modal damping ratio -Re(s)/|s| (NaN for a rigid-body zero root)"},
-            ),
-            "decay_rate": (dims, -lam.real, {"units": "s-1", "long_name": "modal decay rate -Re(s)"}),
-            "mac": (
-                dims,
-                score.T,
-                {
-                    "units": "1",
-                    "long_name": "modal assurance criterion of the match with the "
-                    "neighbouring rotor speed towards the nominal one",
-                },
-            ),
-            "energy_share": (
-                dims + ("coordinate",),
-                share,
-                {
-                    "units": "1",
-                    "long_name": "share of the mode's "
-                    "kinetic energy in each multiblade coordinate (diagonal of the mass matrix)",
-                },
-            ),
-            "periodicity_residual": (
-                "rotor_speed",
-                residual,
-                {"units": "1", "long_name": "largest relative change of the multiblade matrices with rotor azimuth"},
-            ),
-        },
-        coords={
-            "mode": (
-                "mode",
-                np.arange(lam.shape[0]),
-                {"units": "1", "long_name": "mode number (by frequency at the nominal rotor speed)"},
-            ),
-            "mode_label": (
-                "mode",
-                labels,
-                {"units": "1", "long_name": "coordinate with the largest energy share at the nominal rotor speed"},
-            ),
-            "rotor_speed": ("rotor_speed", speeds, {"units": "rad s-1", "long_name": "main rotor speed"}),
-            "coordinate": ("coordinate", names, {"units": "1", "long_name": "multiblade coordinate"}),
-        },
-        attrs={"nominal_rotor_speed_rad_s": heli.main_rotor.omega_rad_s},
-    )
+    values = {
+        "frequency": (dims, lam.imag),
+        "frequency_hz": (dims, lam.imag / (2 * np.pi)),
+        "damping_ratio": (dims, np.where(size > 0, -lam.real / np.where(size > 0, size, 1.0), np.nan)),
+        "decay_rate": (dims, -lam.real),
+        "mac": (dims, score.T),
+        "energy_share": ((*dims, "coordinate"), share),
+        "periodicity_residual": ("rotor_speed", residual),
+    }
+    data = {
+        k: (d, v, dict(zip(("units", "long_name"), _CAMPBELL_ATTRS[k], strict=True))) for k, (d, v) in values.items()
+    }
+    coords = {
+        "mode": ("mode", np.arange(lam.shape[0]), {"units": "1", "long_name": "mode number (by frequency at Omega)"}),
+        "mode_label": (
+            "mode",
+            labels,
+            {"units": "1", "long_name": "coordinate with the largest energy share at the nominal rotor speed"},
+        ),
+        "rotor_speed": ("rotor_speed", speeds, {"units": "rad s-1", "long_name": "main rotor speed"}),
+        "coordinate": ("coordinate", names, {"units": "1", "long_name": "multiblade coordinate"}),
+    }
+    return xr.Dataset(data, coords=coords, attrs={"nominal_rotor_speed_rad_s": heli.main_rotor.omega_rad_s})

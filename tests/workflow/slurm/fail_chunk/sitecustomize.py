@@ -1,7 +1,8 @@
 """Test hook (tests/workflow/test_slurm.py only): make one reference-table chunk fail, inside its own job process.
 
 On PYTHONPATH with UAVDAMP_TEST_FAIL_CHUNK="i-of-N" set, every Python process started by Snakemake (locally or as a
-SLURM job) loads this module at start-up and wraps `uavdamp.reference_table.chunks.run_chunk` to raise for that chunk. Production
+SLURM job) loads this module at start-up and wraps `uavdamp.reference_table.chunks.run_chunk` to raise for that
+chunk. Production
 code has no such hook; a monkeypatch cannot reach a SLURM job's process.
 """
 
