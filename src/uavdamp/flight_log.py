@@ -324,7 +324,7 @@ def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0
         "frame": inertial.FRAME,
         "sign": inertial.SIGN,
         "resampling": "cubic spline (not-a-knot) through the logged samples, evaluated on the uniform grid",
-        "integration": "mean removed, Tukey taper of taper_s per end, zero-padded, divided by (i 2 pi f)^n in "
+        "integration": "mean removed, Tukey taper of taper_s per end, one FFT, divided by (i 2 pi f)^n in "
         "band_hz and zeroed outside; untrusted within edge_s of either end",
     }
     if record.clipped is not None:
