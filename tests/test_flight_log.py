@@ -178,6 +178,35 @@ def test_sinusoidal_rate_about_z_moves_the_mount_as_the_closed_form(tmp_path):
     np.testing.assert_allclose(ds.angular_rate.values[2], wz, atol=1e-9)  # CSV: 10 digits
 
 
+def test_rotation_about_z_moves_an_offset_mount_tangentially(tmp_path):
+    """theta_z = T sin(2 pi f t) about z (FLU) with the mount at r = (rx, 0, 0): a_y = dw_z/dt rx integrates to
+    y = rx theta_z, and theta_z comes back from the rates; the centripetal a_x = -w_z^2 rx has a 2f line whose
+    displacement amplitude is rx T^2 / 8."""
+    t = sine_time()
+    big_t, f, rx = 0.02, 5.0, 0.2
+    acc, gyro = still_frd(t.size)
+    gyro[2] = -big_t * 2 * np.pi * f * np.cos(2 * np.pi * f * t)
+    ds = read_flight_log(write_csv(tmp_path / "yaw.csv", t, acc, gyro), band_hz=BAND, imu_to_mount_m=(rx, 0, 0))
+    k = interior(t)
+    theta = big_t * np.sin(2 * np.pi * f * t)
+    assert np.max(np.abs(ds.mount_rotation.values[2, k] - theta[k])) < 0.005 * big_t
+    assert np.max(np.abs(ds.mount_displacement.values[1, k] - rx * theta[k])) < 0.005 * rx * big_t
+    amp_2f = line_amplitudes(t[k], ds.mount_displacement.values[0, k], [2 * f])[0]
+    assert amp_2f == pytest.approx(rx * big_t**2 / 8, rel=0.01)
+
+
+def test_spline_reproduces_cubics_on_jittered_times():
+    """A not-a-knot cubic spline is exact for a cubic polynomial, ends included."""
+    rng = np.random.default_rng(3)
+    t = np.sort(rng.uniform(0.0, 2.0, 50))
+    cubic = np.array([1.0 + t - 2 * t**2 + 0.5 * t**3, -(t**3), 3 + 0 * t])
+    grid = inertial.uniform_grid(t[0], t[-1], 0.01)
+    values, slope = inertial.resample(t, cubic, grid, derivative=True)
+    g = grid
+    np.testing.assert_allclose(values[:2], [1.0 + g - 2 * g**2 + 0.5 * g**3, -(g**3)], atol=1e-9)
+    np.testing.assert_allclose(slope[:2], [1.0 - 4 * g + 1.5 * g**2, -3 * g**2], atol=1e-9)
+
+
 def test_spline_derivative_has_the_compact_difference_gain():
     """At the knots of uniform samples, the cubic spline's derivative of sin(w t) is G w cos(w t) with
     G = 3 sin(x) / (x (2 + cos x)), x = w dt (the tridiagonal spline relation s'_{i-1} + 4 s'_i + s'_{i+1}
@@ -247,6 +276,7 @@ def test_quadrotor_log_rate_duration_and_topic():
     assert float(ds.time[-1]) == pytest.approx(8.94, abs=0.02)  # about 9 s
     jitter = np.abs(steps - np.median(steps)) / np.median(steps)
     assert ds.attrs["interval_jitter_max"] == pytest.approx(jitter.max(), rel=1e-9)  # a dropped sample: ~1.1
+    assert ds.attrs["interval_jitter_std"] == pytest.approx(np.std(steps / np.median(steps)), rel=1e-9)
     assert ds.attrs["log_format"] == "PX4 ULog" and ds.attrs["log_messages"].startswith("sensor_combined")
     assert ds.attrs["log_sha256"] == hashlib.sha256(QUAD.read_bytes()).hexdigest()
     assert ds.attrs["accelerometer_clipped_samples"] == np.count_nonzero(raw["accelerometer_clipping"])
@@ -256,6 +286,20 @@ def test_quadrotor_log_rate_duration_and_topic():
         -np.mean(raw["accelerometer_m_s2[2]"][on_ground]), abs=0.01
     )
     io.check_metadata(ds)
+
+
+def test_accelerometer_relative_timestamps_are_used(tmp_path):
+    """The quadrotor log rewritten by pyulog with the accelerometer 2.5 ms after the gyro and a 3 Hz line of
+    the accelerometer's own time on FRD x: the resampled line has no phase lag (2.5 ms would be 4.7 %)."""
+    ulog = ULog(str(QUAD), ["sensor_combined"])
+    data = ulog.get_dataset("sensor_combined").data
+    data["accelerometer_timestamp_relative"][:] = 2500
+    acc_time = 1e-6 * (data["timestamp"] + 2500)
+    data["accelerometer_m_s2[0]"][:] = np.sin(2 * np.pi * 3.0 * acc_time)
+    ulog.write_ulog(str(tmp_path / "shifted.ulg"))
+    ds = read_flight_log(tmp_path / "shifted.ulg", band_hz=BAND)
+    log_time = ds.time.values + ds.attrs["log_window_s"][0]
+    np.testing.assert_allclose(ds.acceleration.values[0], np.sin(2 * np.pi * 3.0 * log_time), atol=2e-3)
 
 
 def test_vtol_log_is_refused_whole_for_its_start_gap_and_read_after_it():
@@ -485,7 +529,7 @@ def test_psd_figure_shows_both_spectra_with_units_band_and_the_line(tmp_path):
 
     t = sine_time(8.0)
     acc, gyro = still_frd(t.size)
-    acc[0] += 0.5 * np.sin(2 * np.pi * 20.0 * t)
+    acc[0] += 0.5 * np.sin(2 * np.pi * 20.0 * t) + 2.0 * np.sin(2 * np.pi * 60.0 * t)  # the larger line out of band
     gyro[2] = 0.01 * np.sin(2 * np.pi * 12.0 * t) + 1e-4 * np.random.default_rng(1).standard_normal(t.size)
     fig = psd_figure(read_flight_log(write_csv(tmp_path / "line.csv", t, acc, gyro), band_hz=BAND))
     acc_ax, rate_ax = fig.axes

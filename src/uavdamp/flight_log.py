@@ -306,6 +306,18 @@ def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0
     )
     acc = inertial.lever_arm(acc_imu, rate, rate_dot, r_m)
     dt = stats["median_s"]
+    return _dataset(
+        grid - grid[0],
+        acc,
+        rate,
+        inertial.band_integrate(acc, dt, band, 2),
+        inertial.band_integrate(rate, dt, band, 1),
+        _attributes(path, fmt, record, keep, grid, stats, band, r_m),
+    )
+
+
+def _attributes(path: Path, fmt: str, record: ImuRecord, keep, grid, stats, band, r_m) -> dict:
+    """The dataset's provenance and processing attributes (netCDF-compatible values)."""
     attrs = {
         "log_file": path.name,
         "log_sha256": hashlib.sha256(path.read_bytes()).hexdigest(),
@@ -313,10 +325,10 @@ def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0
         "log_messages": record.messages,
         "log_time_span_s": np.array([record.time_s[0], record.time_s[-1]]),
         "log_window_s": np.array([grid[0], grid[-1]]),
-        "sample_rate_hz": 1.0 / dt,
+        "sample_rate_hz": 1.0 / stats["median_s"],
         "interval_jitter_std": stats["jitter_std"],
         "interval_jitter_max": stats["jitter_max"],
-        "interval_jitter": "std and max of |sample interval - median| / median in the window (fractions)",
+        "interval_jitter": "std of (sample interval - median) / median in the window, and max of its absolute value",
         "band_hz": np.array(band),
         "edge_s": inertial.edge_s(band),
         "taper_s": inertial.taper_s(band),
@@ -324,19 +336,13 @@ def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0
         "frame": inertial.FRAME,
         "sign": inertial.SIGN,
         "resampling": "cubic spline (not-a-knot) through the logged samples, evaluated on the uniform grid",
+        "angular_acceleration": "time derivative of the angular rates' cubic spline (for the lever arm)",
         "integration": "mean removed, Tukey taper of taper_s per end, one FFT, divided by (i 2 pi f)^n in "
         "band_hz and zeroed outside; untrusted within edge_s of either end",
     }
     if record.clipped is not None:
         attrs["accelerometer_clipped_samples"] = int(np.count_nonzero(record.clipped[keep]))
-    return _dataset(
-        grid - grid[0],
-        acc,
-        rate,
-        inertial.band_integrate(acc, dt, band, 2),
-        inertial.band_integrate(rate, dt, band, 1),
-        attrs,
-    )
+    return attrs
 
 
 def _dataset(time, acc, rate, displacement, rotation, attrs) -> xr.Dataset:

@@ -43,7 +43,8 @@ def frd_to_flu(vectors: np.ndarray) -> np.ndarray:
 
 
 def interval_stats(time_s: np.ndarray) -> dict[str, float]:
-    """Median sample interval (s) and its jitter: std and max of |interval - median| / median (fractions)."""
+    """Median sample interval (s) and its jitter: std of (interval - median) / median and max of its absolute
+    value (fractions)."""
     steps = np.diff(np.asarray(time_s, dtype=float))
     median = float(np.median(steps))
     rel = (steps - median) / median
