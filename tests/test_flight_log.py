@@ -243,6 +243,22 @@ def test_csv_signs_arrive_in_uavdamp_axes(tmp_path):
     assert "y left, z up" in ds.attrs["frame"] and "y -> -y, z -> -z" in ds.attrs["sign"]
 
 
+def test_csv_columns_in_any_order_with_extra_ones(tmp_path):
+    t = sine_time(5.0)
+    acc, gyro = still_frd(t.size)
+    gyro[1] = 0.3
+    ds = read_flight_log(write_csv(tmp_path / "a.csv", t, acc, gyro), band_hz=BAND)
+    order = [3, 0, 6, 1, 5, 2, 4]
+    table = np.column_stack([t, *acc, *gyro, np.ones_like(t)])[:, order + [7]]
+    header = ",".join([flight_log.CSV_COLUMNS[i] for i in order] + ["battery_v"])
+    path = tmp_path / "b.csv"
+    np.savetxt(path, table, delimiter=",", header="# exported by hand\n" + header, comments="", fmt="%.10g")
+    other = read_flight_log(path, band_hz=BAND)
+    np.testing.assert_array_equal(other.acceleration, ds.acceleration)
+    np.testing.assert_array_equal(other.angular_rate, ds.angular_rate)
+    np.testing.assert_allclose(other.angular_rate.values[1], -0.3)
+
+
 def test_jittered_csv_sine_integrates_to_its_displacement(tmp_path):
     """200 Hz with +-10 % timestamp jitter; 6 Hz and 15 Hz lines on FRD y (uavdamp y = -FRD y)."""
     rng = np.random.default_rng(7)
@@ -422,6 +438,19 @@ def test_truncated_ulog_is_refused(tmp_path):
     path = tmp_path / "cut.ulg"
     path.write_bytes(QUAD.read_bytes()[:300001])
     assert isinstance(refused(path, "truncated"), FlightLogError)
+
+
+def test_ulog_cut_inside_its_header_is_refused(tmp_path):
+    path = tmp_path / "head.ulg"
+    path.write_bytes(QUAD.read_bytes()[:10])
+    refused(path, "truncated: 10 bytes")
+
+
+def test_ulog_with_invalid_accelerometer_samples_is_refused(tmp_path):
+    ulog = ULog(str(QUAD), ["sensor_combined"])
+    ulog.get_dataset("sensor_combined").data["accelerometer_timestamp_relative"][100] = 2**31 - 1
+    ulog.write_ulog(str(tmp_path / "invalid.ulg"))
+    refused(tmp_path / "invalid.ulg", "accelerometer samples invalid")
 
 
 def test_ulog_without_sensor_combined_is_refused(tmp_path):

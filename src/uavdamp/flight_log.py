@@ -41,6 +41,7 @@ CSV_COLUMNS = ("time_s", "acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2", "gyro_x_rad_s
 FORMAT_NAMES = {"ulog": "PX4 ULog", "dataflash": "ArduPilot DataFlash", "csv": "uavdamp CSV"}
 EXTENSIONS = {".ulg": "ulog", ".bin": "dataflash", ".csv": "csv"}
 AXES = ("x", "y", "z")
+RELATIVE_TIMESTAMP_INVALID = 2**31 - 1  # PX4 sensor_combined: no accelerometer sample with this gyro sample
 
 
 class FlightLogError(ValueError):
@@ -63,8 +64,8 @@ class ImuRecord:
 
 
 def detect_format(path: Path) -> str:
-    """ "ulog", "dataflash" or "csv" from the file's first bytes; FlightLogError if none or if a known
-    extension (.ulg, .bin, .csv) disagrees."""
+    """The format, "ulog", "dataflash" or "csv", from the file's first bytes; FlightLogError if none fits or
+    if a known extension (.ulg, .bin, .csv) disagrees."""
     with open(path, "rb") as f:
         head = f.read(4096)
     if head.startswith(ULOG_MAGIC):
@@ -105,12 +106,14 @@ def ulog_truncation(path: Path) -> str | None:
     exactly at the end of the file, else what is cut. (A file cut on a message boundary passes: ULog has no
     end marker.)"""
     data = Path(path).read_bytes()
-    offset = 16
+    if len(data) < 16:
+        return f"truncated: {len(data)} bytes, shorter than the 16-byte ULog header"
+    offset = start = 16
     while offset + 3 <= len(data):
-        (size,) = struct.unpack_from("<H", data, offset)
-        offset += 3 + size
+        start = offset
+        offset += 3 + struct.unpack_from("<H", data, offset)[0]
     if offset != len(data):
-        return f"truncated: the last message at byte {offset - 3 - size} needs {offset - len(data)} more bytes"
+        return f"truncated: the message at byte {start} needs {offset - len(data)} more bytes than the file has"
     return None
 
 
@@ -137,6 +140,8 @@ def read_ulog(path: Path) -> ImuRecord:
         raise FlightLogError(path, f"sensor_combined lacks the fields {missing}")
     time_us = data["timestamp"].astype(np.int64)
     rel_us = data.get("accelerometer_timestamp_relative", np.zeros_like(time_us)).astype(np.int64)
+    if np.any(rel_us == RELATIVE_TIMESTAMP_INVALID):
+        raise FlightLogError(path, "sensor_combined marks accelerometer samples invalid (relative timestamp INT32_MAX)")
     clipping = data.get("accelerometer_clipping")
     return ImuRecord(
         time_s=1e-6 * time_us,
