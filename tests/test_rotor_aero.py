@@ -184,6 +184,12 @@ def test_flap_rate_damping_about_the_hinge_is_the_lock_number_closed_form():
     slope = (hinge_moment(h) - hinge_moment(-h)) / (2 * h)
     closed = -0.5 * RHO * blade.lift_slope * blade.chord * OMEGA * (length**4 / 4 + e * length**3 / 3)
     assert slope == pytest.approx(closed, rel=0.01)
+    # flap mode of a uniform hinged blade: I = m L^2 / 3, nu^2 = 1 + 3 e / (2 L); damping ratio from the slope
+    inertia, nu = 31.06 * length**2 / 3, math.sqrt(1 + 1.5 * e / length)
+    zeta = -slope / (2 * inertia * nu * OMEGA)
+    gamma = RHO * blade.lift_slope * blade.chord * length**4 / inertia
+    assert blade.lock_number(inertia) == pytest.approx(gamma, rel=1e-12)
+    assert zeta == pytest.approx(gamma / 16 * (1 + 4 * e / (3 * length)) / nu, rel=0.01)
 
 
 def test_lift_stops_growing_beyond_the_stall_angle():
@@ -247,6 +253,16 @@ def test_pitt_peters_forward_flight_gradient_is_pitt_peters_closed_form():
     assert nu_c / nu_0 == pytest.approx(15 * math.pi / 32 * math.tan(chi / 2), rel=0.02)
     assert nu_s == 0.0
     np.testing.assert_allclose(I.pitt_peters_rhs([nu_0, nu_s, nu_c], c_t, 0, 0, mu), 0.0, atol=1e-10)
+
+
+def test_pitt_peters_steady_state_is_the_rest_point_of_the_dynamics_with_moments():
+    """nu = L V^-1 (C_T, -C_L, -C_M) (the steady solve) zeroes the right-hand side (its own L^-1) in skewed flow."""
+    for mu in (0.0, 0.1, 0.3):
+        forcing = (0.003, 2e-5, -3e-5)
+        state = I.pitt_peters_steady(*forcing, mu, 0.01)
+        np.testing.assert_allclose(I.pitt_peters_rhs(state, *forcing, mu, 0.01), 0.0, atol=1e-10)
+        sol = solve_ivp(lambda t, y, f=forcing, m=mu: I.pitt_peters_rhs(y, *f, m, 0.01), (0, 400), [0.02, 0, 0])
+        np.testing.assert_allclose(sol.y[:, -1], state, rtol=1e-3, atol=1e-7)
 
 
 @pytest.mark.parametrize(
