@@ -192,7 +192,7 @@ def section_velocities(
     relative = (np.asarray(origin_velocity, dtype=float)[:, None, :] - air) @ rotation  # A^T (v_0 - v_air)
     u_t = relative[..., 1] + omega_b[:, 2:3] * s
     u_p = relative[..., 2] - omega_b[:, 1:2] * s
-    u_r = np.broadcast_to(-relative[..., 0], u_t.shape)
+    u_r = 0.0 * s - relative[..., 0]  # (B, S) also when the air velocity is one per blade
     return u_t, u_p, u_r
 
 
@@ -216,14 +216,16 @@ def blade_loads(
     cl = blade.lift_slope * np.minimum(np.maximum(alpha, -blade.alpha_stall), blade.alpha_stall)
     cd = blade.cd0 + blade.cd2 * alpha * alpha if blade.cd2 else blade.cd0
     q = (0.5 * rho * blade.chord) * speed  # N s m-3 times the velocity components below give N/m
-    f = np.empty((3, *speed.shape))
-    f[0] = q * cd * u_r
-    f[1] = -q * (cl * u_p + cd * u_t)
-    f[2] = q * (cl * u_t - cd * u_p)
-    force = f @ blade.weights  # (3, B)
-    first = f[1:] @ blade.moment_weights  # (2, B): integral of s f_y, s f_z
-    moment = np.stack([np.zeros_like(first[0]), -first[1], first[0]], axis=-1)
-    return BladeLoads(np.moveaxis(f, 0, -1), force.T, moment, alpha)
+    f = np.empty((*speed.shape, 3))
+    f[..., 0] = q * cd * u_r
+    f[..., 1] = -q * (cl * u_p + cd * u_t)
+    f[..., 2] = q * (cl * u_t - cd * u_p)
+    per_component = f.transpose(0, 2, 1)  # (B, 3, S), a view
+    first = per_component[:, 1:] @ blade.moment_weights  # (B, 2): integral of s f_y, s f_z
+    moment = np.zeros((speed.shape[0], 3))
+    moment[:, 1] = -first[:, 1]
+    moment[:, 2] = first[:, 0]
+    return BladeLoads(f, per_component @ blade.weights, moment, alpha)
 
 
 def blade_rotations(hub_angle: float, n_blades: int) -> np.ndarray:
