@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import exudyn as exu
+import exudyn.itemInterface as eii
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -71,6 +73,43 @@ def test_tip_down_flap_rate_gives_upflow():
     u_t, u_p, _ = A.section_velocities(blade, rot, np.zeros((1, 3)), rate * rot[:, :, 1], np.zeros(3))
     np.testing.assert_allclose(u_p[0], -blade.stations * rate, rtol=1e-12)
     np.testing.assert_allclose(u_t, 0.0, atol=1e-12)
+
+
+def test_the_uavdamp_blade_links_are_blade_frames(default_config):
+    """Exudyn's feather links of the uavdamp tree: U_T = Omega r, a flap-coordinate rate q' gives U_P = -s q' (tip
+    down), a feather angle turns the leading edge (frame y) up: the conventions `rotor_aero` documents."""
+    heli = H.Helicopter.from_config(default_config["helicopter"]).balanced()
+    model = H.build(heli, fix_fuselage=True)
+    mbs, blade, flap_rate, feather = model.mbs, A.BO105_MAIN, 0.5, 0.1
+    flap = H.HUB_LINK + 1  # blade 0: flap, lag, feather links
+    for name, value in (("initialCoordinates_t", flap_rate), ("initialCoordinates", feather)):
+        q = np.array(mbs.GetNodeParameter(model.node, name))
+        q[flap + (0 if name.endswith("_t") else 2)] = value
+        mbs.SetNodeParameter(model.node, name, list(q))
+    sensors = {
+        var: mbs.AddSensor(
+            eii.SensorKinematicTree(
+                objectNumber=0,
+                linkNumber=flap + 2,
+                localPosition=[0.0, 0.0, 0.0],
+                outputVariableType=getattr(exu.OutputVariableType, var),
+                storeInternal=False,
+            )
+        )
+        for var in ("RotationMatrix", "Velocity", "AngularVelocity")
+    }
+    mbs.Assemble()
+    read = {
+        k: np.asarray(mbs.GetSensorValues(s, configuration=exu.ConfigurationType.Initial)) for k, s in sensors.items()
+    }
+    rot = read["RotationMatrix"].reshape(1, 3, 3)
+    assert rot[0, 2, 1] == pytest.approx(math.sin(feather), rel=1e-9)  # leading edge up: nose-up pitch
+    u_t, u_p, _ = A.section_velocities(blade, rot, read["Velocity"][None], read["AngularVelocity"][None], np.zeros(3))
+    # (U_T, U_P) are components along the pitched frame's (y', z'); rotate them back to the hub's (y, z)
+    tangential = u_t[0] * rot[0, 1, 1] + u_p[0] * rot[0, 1, 2]
+    normal = u_t[0] * rot[0, 2, 1] + u_p[0] * rot[0, 2, 2]
+    np.testing.assert_allclose(tangential, OMEGA * (heli.main_rotor.hinge_offset + blade.stations), rtol=1e-9)
+    np.testing.assert_allclose(normal, -blade.stations * flap_rate, rtol=1e-9)
 
 
 # --- inflow ------------------------------------------------------------------------------------------------------
