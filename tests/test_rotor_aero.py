@@ -239,6 +239,15 @@ def test_lift_stops_growing_beyond_the_stall_angle():
     np.testing.assert_allclose(normal, lift_at_stall, rtol=1e-12)
 
 
+def test_yawed_flow_drag_has_the_radial_component_along_the_radial_flow():
+    """Zero lift, U_P = 0, radial flow U_R: f = 1/2 rho c U_T C_d0 (U_R, -U_T, 0) per metre (drag along the flow)."""
+    blade = A.BO105_MAIN
+    u_t, u_r = np.full((1, blade.n_stations), 80.0), np.full((1, blade.n_stations), 12.0)
+    force = A.blade_loads(blade, u_t, 0 * u_t, u_r, 0.0).force[0]
+    scale = 0.5 * RHO * blade.chord * 80.0 * blade.cd0 * blade.length
+    np.testing.assert_allclose(force, [scale * 12.0, -scale * 80.0, 0.0], rtol=1e-12, atol=1e-12)
+
+
 # --- Pitt-Peters -------------------------------------------------------------------------------------------------
 
 
