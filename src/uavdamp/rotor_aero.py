@@ -25,7 +25,8 @@ The aerodynamic centre lies on the feather axis and there is no pitching moment,
 (Theodorsen) lift: the inflow models (`rotor_inflow`) carry the wake.
 
 Span integration: Gauss-Legendre on [root cut-out, tip] by default (exact for polynomials of degree
-2n - 1, so 10 stations converge the hover thrust to 1e-5), midpoint rule optional (second order).
+2n - 1: on the uavdamp blade 4 stations give the hover thrust to 5e-6, 10 to 1e-10), midpoint rule
+optional (second order: 1e-4 at 10 stations).
 """
 
 from __future__ import annotations
