@@ -2,6 +2,7 @@
 written here (it reads the text itself and imports no uavdamp code), a third-party engine (fuzzylite), and the
 refusals. Expected values come from the test's own data and evaluator, never from the code under test."""
 
+import itertools
 import math
 import shutil
 import subprocess
@@ -197,7 +198,16 @@ def test_outside_the_ranges_the_file_user_must_clamp(table_model):
     model = table_model.predict_target(raw)
     np.testing.assert_allclose(model, plain_sugeno(text, clamped), rtol=RTOL, atol=0)
     assert np.abs(plain_sugeno(text, outside) - model).max() > 1e-3
-    lo, hi = numbers(parse_fis(text)["Output1"]["Range"])
+
+
+def test_the_output_range_is_the_rules_extremes_over_the_input_box(table_model):
+    """Each linear consequent is extreme at a corner of the box; a weighted average stays within them."""
+    fis = parse_fis(to_fis(table_model))
+    corners = np.array(list(itertools.product(*[numbers(fis[f"Input{i}"]["Range"]) for i in (1, 2, 3)])))
+    rules = np.array([mf(fis["Output1"][f"MF{k}"])[1] for k in range(1, int(fis["Output1"]["NumMFs"]) + 1)])
+    values = corners @ rules[:, :3].T + rules[:, 3]
+    lo, hi = numbers(fis["Output1"]["Range"])
+    np.testing.assert_allclose([lo, hi], [values.min(), values.max()], rtol=RTOL, atol=0)
     inner = table_model.predict_target(inside(500, 6))
     assert lo <= inner.min() and inner.max() <= hi
 
@@ -281,6 +291,41 @@ def test_pyfuzzylite_evaluates_the_file_as_read_here(fl, table_model):
     engine = fl.FllImporter().from_string(fll_of(to_fis(table_model)))
     X = inside(100, 8)
     np.testing.assert_allclose(evaluate_engine(engine, learnt(X)), table_model.predict_target(X), rtol=1e-9, atol=0)
+
+
+def swap_mfs(text, section, column):
+    """The text with MF1 and MF2 of ``section`` swapped, and the rules' numbers in ``column`` swapped to match."""
+    lines = text.splitlines()
+    start = lines.index(f"[{section}]")
+    one = next(i for i in range(start, len(lines)) if lines[i].startswith("MF1="))
+    lines[one], lines[one + 1] = "MF1=" + lines[one + 1][4:], "MF2=" + lines[one][4:]
+    rules = lines.index("[Rules]")
+    for i in range(rules + 1, len(lines)):
+        left, right = lines[i].split(",")
+        fields = left.split() + [right.split("(")[0].strip()]
+        fields[column] = {"1": "2", "2": "1"}.get(fields[column], fields[column])
+        lines[i] = " ".join(fields[:-1]) + f", {fields[-1]} (1) :" + lines[i].rsplit(":", 1)[1]
+    return "\n".join(lines) + "\n"
+
+
+def test_the_rules_mf_numbers_are_honoured(grid_text):
+    """Reordering an input's or the output's MFs, with the rules renumbered to match, is the same FIS."""
+    X = inside(200, 9)
+    expected = from_fis(grid_text).predict(X)
+    for section, column in (("Input1", 0), ("Input3", 2), ("Output1", 3)):
+        text = swap_mfs(grid_text, section, column)
+        assert text != grid_text
+        np.testing.assert_allclose(from_fis(text).predict(X), expected, rtol=RTOL, atol=0)
+
+
+def test_a_constant_output_mf_is_a_linear_one_with_zero_coefficients(grid_text):
+    line = next(line for line in grid_text.splitlines() if line.startswith("MF1='rule1'"))
+    c = mf(line.split("=", 1)[1])[1][-1]
+    zero = grid_text.replace(line, f"MF1='rule1':'linear',[0 0 0 {c!r}]")
+    constant = grid_text.replace(line, f"MF1='rule1':'constant',[{c!r}]")
+    X = inside(200, 10)
+    np.testing.assert_allclose(from_fis(constant).predict(X), from_fis(zero).predict(X), rtol=RTOL, atol=0)
+    np.testing.assert_allclose(from_fis(zero).predict_target(X), plain_sugeno(zero, learnt(X)), rtol=RTOL, atol=0)
 
 
 # ---------------------------------------------------------------------------------------------
