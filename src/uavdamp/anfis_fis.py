@@ -37,6 +37,10 @@ set to its mean range value") where the ANFIS, normalising in log space, returns
 rule's output. The output Range written is a bound of the model over the input box (each rule's
 linear consequent at its extremes over the box; a weighted average cannot leave it).
 
+Other readers: the C++ fuzzylite (6.0) imports the file, and its engine (or pyfuzzylite's, which has
+no FIS importer of its own) agrees with the model to ~1e-15 once its absolute tolerance is 0: by
+default (1e-6; 1e-3 in pyfuzzylite 8) it drops rules firing below it, which evalfis does not.
+
 A constant input (zero training range) is refused: MATLAB requires Range(1) < Range(2), and the
 ANFIS ignores such an input anyway. ``from_fis`` refuses, naming the section and line, what the
 ANFIS cannot represent: a type other than sugeno, AND other than prod, a defuzzifier other than
