@@ -12,7 +12,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from uavdamp import rotor_aero, rotor_inflow
+from uavdamp.helicopter import aerodynamics as rotor_aero
+from uavdamp.helicopter import inflow as rotor_inflow
 
 parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
 parser.add_argument("--stations", type=int, default=10)

@@ -232,3 +232,30 @@ def excitation_options(cases: dict, *, duration: float, highpass_hz: float, band
     tracking = {**load_config()["study"]["tracking"], "min_freq_hz": band_hz[0], "max_freq_hz": band_hz[1]}
     section = {"cases": cases, "duration_s": duration, "highpass_hz": highpass_hz, "tracking": tracking}
     return parse(ExcitationOptions, section, "study")
+
+
+# an `anfis` section for the estimator's and the training stage's tests (small: 40 epochs, 3 folds, 2 candidates)
+ANFIS_OPTIONS = {
+    "epochs": 40,
+    "error_goal": 0.0,
+    "step_size": 0.01,
+    "step_increase": 1.1,
+    "step_decrease": 0.9,
+    "min_sigma_frac": 0.01,
+    "ridge": 0.0,
+    "log_stiffness": False,
+    "log_damping": False,
+    "train_fraction": 0.8,
+    "seed": 7,
+    "epoch_selection": "validation",
+    "validation_fraction": 0.2,
+    "baselines": ["linear", "knn"],
+    "selection": {"folds": 3, "candidates": [{"init": "grid", "n_mfs": 2}, {"init": "subtractive", "radius": 0.5}]},
+}
+
+
+def anfis_options(options: dict | None = None, **changes):
+    """ANFIS_OPTIONS (or `options`) with `changes`, typed as the training stage receives them."""
+    from uavdamp.anfis import AnfisOptions
+
+    return parse(AnfisOptions, {**(ANFIS_OPTIONS if options is None else options), **changes}, "anfis")

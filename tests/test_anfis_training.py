@@ -6,11 +6,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import ANFIS_OPTIONS as OPTIONS
+from conftest import anfis_options as typed
 
 from uavdamp import io
-from uavdamp.anfis import AnfisOptions, baselines
+from uavdamp.anfis import baselines
 from uavdamp.anfis import training as learning
-from uavdamp.settings import parse
 
 
 def smooth_table(nan_cells: int = 0) -> xr.Dataset:
@@ -27,30 +28,6 @@ def smooth_table(nan_cells: int = 0) -> xr.Dataset:
             "stiffness": ("stiffness", k, {"units": "N m-1", "long_name": "K"}),
         },
     )
-
-
-OPTIONS = {
-    "epochs": 40,
-    "error_goal": 0.0,
-    "step_size": 0.01,
-    "step_increase": 1.1,
-    "step_decrease": 0.9,
-    "min_sigma_frac": 0.01,
-    "ridge": 0.0,
-    "log_stiffness": False,
-    "log_damping": False,
-    "train_fraction": 0.8,
-    "seed": 7,
-    "epoch_selection": "validation",
-    "validation_fraction": 0.2,
-    "baselines": ["linear", "knn"],
-    "selection": {"folds": 3, "candidates": [{"init": "grid", "n_mfs": 2}, {"init": "subtractive", "radius": 0.5}]},
-}
-
-
-def typed(options: dict) -> AnfisOptions:
-    """The `anfis` section typed, as the training stage receives it."""
-    return parse(AnfisOptions, options, "anfis")
 
 
 def test_samples_drop_failed_cells():

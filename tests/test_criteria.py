@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
+from conftest import ANFIS_OPTIONS as OPTIONS
+from conftest import anfis_options as typed
 from conftest import camera_of, copy_workflow, displacement_grid, load_config, planned_rules, snakemake, synthetic_grid
-from test_anfis_training import OPTIONS, typed
 
 from uavdamp import strategies
 from uavdamp.anfis import training as learning

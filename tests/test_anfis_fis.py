@@ -1,4 +1,4 @@
-"""Tests of the MATLAB .fis export and import (uavdamp.anfis_fis): exact round trips, a plain Sugeno evaluator
+"""Tests of the MATLAB .fis export and import (uavdamp.anfis.fis): exact round trips, a plain Sugeno evaluator
 written here (it reads the text itself and imports no uavdamp code), a third-party engine (fuzzylite), and the
 refusals. Expected values come from the test's own data and evaluator, never from the code under test."""
 
@@ -9,18 +9,25 @@ import subprocess
 
 import numpy as np
 import pytest
+from conftest import anfis_options
 from sklearn.exceptions import NotFittedError
 from sklearn.linear_model import LinearRegression
 
-from uavdamp.anfis import ANFIS
-from uavdamp.anfis_fis import from_fis, to_fis
-from uavdamp.learning import TableModel
+from uavdamp.anfis import ANFIS, DampingModel
+from uavdamp.anfis.fis import from_fis, to_fis
 
 # any warning not expected with pytest.warns fails the test
 pytestmark = pytest.mark.filterwarnings("error")
 
 LO, HI = np.array([5.0, 5.0, 10.0]), np.array([30.0, 30.0, 1000.0])  # f_y, f_z [Hz], K [N/m]
 RTOL = 1e-12
+
+
+def fitted(structure: dict, epochs: int) -> DampingModel:
+    """A DampingModel on log10 K and C with the ANFIS `structure` (init and its size), fitted on TRAIN."""
+    model = DampingModel.unfitted(anfis_options(epochs=epochs, seed=0, log_stiffness=True, log_damping=True))
+    model.estimator.set_params(**structure)
+    return model.fit(TRAIN, damping(TRAIN))
 
 
 def damping(X):
@@ -42,10 +49,9 @@ INITS = {"grid": {"init": "grid", "n_mfs": 2}, "subtractive": {"init": "subtract
 
 @pytest.fixture(scope="module", params=list(INITS))
 def table_model(request):
-    """A TableModel on log10 K and log10 C: grid init (2 MFs per input, shared by 8 rules) or subtractive
+    """A DampingModel on log10 K and log10 C: grid init (2 MFs per input, shared by 8 rules) or subtractive
     clustering (every rule its own MF per input)."""
-    options = {"log_stiffness": True, "log_damping": True, "seed": 0, "epochs": 20, **INITS[request.param]}
-    return TableModel.unfitted(options).fit(TRAIN, damping(TRAIN))
+    return fitted(INITS[request.param], epochs=20)
 
 
 def inside(n, seed):
@@ -334,8 +340,7 @@ def test_a_constant_output_mf_is_a_linear_one_with_zero_coefficients(grid_text):
 
 @pytest.fixture(scope="module")
 def grid_text():
-    options = {"log_stiffness": True, "log_damping": True, "seed": 0, "epochs": 5, "init": "grid", "n_mfs": 2}
-    return to_fis(TableModel.unfitted(options).fit(TRAIN, damping(TRAIN)))
+    return to_fis(fitted({"init": "grid", "n_mfs": 2}, epochs=5))
 
 
 def line_of(text, fragment):
@@ -375,15 +380,14 @@ def test_unsupported_files_are_refused_with_the_place(grid_text, old, new, messa
 def test_models_the_file_cannot_hold_are_refused():
     with pytest.raises(NotFittedError):
         to_fis(ANFIS())
-    with pytest.raises(TypeError, match="needs a TableModel of an ANFIS"):
-        to_fis(TableModel(LinearRegression().fit(TRAIN, damping(TRAIN)), False, False))
+    with pytest.raises(TypeError, match="needs a DampingModel of an ANFIS"):
+        to_fis(DampingModel(LinearRegression().fit(TRAIN, damping(TRAIN)), False, False))
     X = TRAIN.copy()
     X[:, 1] = 12.0
     with pytest.warns(UserWarning, match="constant"):
         constant = ANFIS(n_mfs=2, epochs=2, input_names=["f_y", "f_z", "K"]).fit(X, damping(TRAIN))
     with pytest.raises(ValueError, match="input f_z is constant"):
         to_fis(constant)
-    options = {"log_stiffness": True, "log_damping": True, "seed": 0, "epochs": 2, "init": "grid", "n_mfs": 2}
-    tm = TableModel.unfitted(options).fit(TRAIN, damping(TRAIN))
-    with pytest.raises(ValueError, match="input 3 is named 'log10_K'.*export the TableModel"):
+    tm = fitted({"init": "grid", "n_mfs": 2}, epochs=2)
+    with pytest.raises(ValueError, match="input 3 is named 'log10_K'.*export the DampingModel"):
         to_fis(tm.anfis)

@@ -22,7 +22,7 @@ stops growing beyond the stall angle and stays there: no post-stall drop, chosen
 reversed or strongly inclined flow near the root); C_d = C_d0 + C_d2 alpha^2. Lift is normal to the in-plane
 (U_T, U_P) flow, drag along it; the radial drag component C_d U U_R (yawed flow, Johnson) is included.
 The aerodynamic centre lies on the feather axis and there is no pitching moment, tip loss or unsteady
-(Theodorsen) lift: the inflow models (`rotor_inflow`) carry the wake.
+(Theodorsen) lift: the inflow models (`uavdamp.helicopter.inflow`) carry the wake.
 
 Span integration: Gauss-Legendre on [root cut-out, tip] by default (exact for polynomials of degree
 2n - 1: on the uavdamp blade 4 stations give the hover thrust to 5e-6, 10 to 1e-10), midpoint rule
@@ -37,7 +37,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from uavdamp import rotor_inflow
+from uavdamp.helicopter import inflow as rotor_inflow
 
 AIR_DENSITY = 1.225  # kg m-3, ISA sea level (Padfield's Bo-105 data are sea-level)
 QUADRATURES = ("gauss", "midpoint")
@@ -233,7 +233,7 @@ def blade_rotations(hub_angle: float, n_blades: int) -> np.ndarray:
     """Rotation matrices (B, 3, 3) of unflapped blades at the model's hub angle (rad, about +z): RotZ(Psi_k).
 
     Psi_k = hub_angle + 2 pi k / N, measured from +x (forward) counter-clockwise, as the uavdamp tree places
-    blade k. The Pitt-Peters azimuth is psi_k = Psi_k - pi (`rotor_inflow.blade_azimuth`).
+    blade k. The Pitt-Peters azimuth is psi_k = Psi_k - pi (`inflow.blade_azimuth`).
     """
     psi = hub_angle + 2 * np.pi * np.arange(n_blades) / n_blades
     c, s = np.cos(psi), np.sin(psi)
@@ -262,7 +262,7 @@ def hover_collective(
 ) -> tuple[float, float]:
     """Collective (rad, on the shaft axis) and inflow ratio that give `thrust` (N) in hover, uniform inflow.
 
-    The inflow is momentum theory's for that thrust (`rotor_inflow.uniform_inflow`); the collective solves
+    The inflow is momentum theory's for that thrust (`inflow.uniform_inflow`); the collective solves
     blade-element thrust = `thrust` by the secant method. The pitch at 0.75 R is collective + 0.75 twist_rad.
     """
     c_t = thrust / (rho * blade.disc_area * (omega_rad_s * blade.tip_radius) ** 2)

@@ -1,6 +1,6 @@
 """The ANFIS as a MATLAB Fuzzy Logic Toolbox ``.fis`` text file, and back.
 
-``to_fis`` writes a fitted ``TableModel`` (or bare ``ANFIS``) as the classic text format that
+``to_fis`` writes a fitted ``DampingModel`` (or bare ``ANFIS``) as the classic text format that
 ``readfis`` / ``evalfis`` accept: Type='sugeno', AndMethod='prod', OrMethod='probor',
 ImpMethod='prod', AggMethod='sum', DefuzzMethod='wtaver'; per input one ``gaussmf`` [sigma c] per
 membership function (MF), rules sharing MFs (grid init) or each with its own (clustering inits)
@@ -8,13 +8,13 @@ alike; the output with one ``linear`` MF [p_1 .. p_d p_0] per rule; one rule per
 connection 1 (AND). The ANFIS already stores its centres, sigmas and consequents in the units of
 its (transformed) inputs and output, with fit's internal output scaling folded in, so the file's
 numbers are the model's own, written with 17 significant digits (exact float64 round trip).
-``from_fis`` reads such a file back into a ``TableModel``; predictions are bit-identical.
+``from_fis`` reads such a file back into a ``DampingModel``; predictions are bit-identical.
 
 Transforms and units, by naming convention (a .fis cannot hold log10; variable names survive
 MATLAB's readfis/writefis, comments do not): a transformed variable is ``log10_<name>_<unit>``,
 its values log10 of the quantity in that unit, e.g. ``log10_K_N_m`` = log10(K / (1 N/m)) and the
 output ``log10_C_N_s_m`` = log10(C / (1 N s/m)); others are ``<name>_<unit>`` (``f_y_Hz``), or
-``<name>`` when dimensionless. ``from_fis`` takes the TableModel's ``log_stiffness`` from the
+``<name>`` when dimensionless. ``from_fis`` takes the DampingModel's ``log_stiffness`` from the
 third input's ``log10_`` prefix and ``log_damping`` from the output's. Lines starting with '%'
 (comments: readfis's line reader skips them, as does fuzzylite's FisImporter) say this in words and
 hold, as ``% uavdamp-names: <JSON>``, the ANFIS's exact names and units; without that line the
@@ -55,14 +55,14 @@ import re
 
 import numpy as np
 
-from uavdamp.anfis import ANFIS
-from uavdamp.learning import TableModel
+from uavdamp.anfis.estimator import ANFIS
+from uavdamp.anfis.training import DampingModel
 
 __all__ = ["to_fis", "from_fis"]
 
 NAMES_TAG = "% uavdamp-names:"
 LOG = "log10_"
-# units of the quantities TableModel may learn as log10 (learning.TableModel: K in N/m, C in N s/m)
+# units of the quantities DampingModel may learn as log10 (uavdamp.anfis.DampingModel: K in N/m, C in N s/m)
 LOG_UNITS = {"input": "N/m", "output": "N s/m"}
 # [System] settings the ANFIS has; readfis defaults the first three to mamdani, min and centroid when
 # absent (so they are required) and forces ImpMethod prod and AggMethod sum for sugeno (checked if present)
@@ -91,8 +91,8 @@ def _fis_name(name: str, unit: str, log: bool, log_unit: str, what: str) -> tupl
         base = "x" + base
     if not log and base.startswith(LOG):
         raise ValueError(
-            f"{what} is named {name!r}, but the file reserves the prefix {LOG!r} for what a TableModel log-transforms; "
-            "export the TableModel (not its ANFIS) or rename the variable"
+            f"{what} is named {name!r}, but the file reserves the prefix {LOG!r} for what a DampingModel "
+            "log-transforms; export the DampingModel (not its ANFIS) or rename the variable"
         )
     if log:
         return f"{LOG}{base}_{_slug(log_unit)}", f"log10({base} / (1 {log_unit}))"
@@ -102,12 +102,12 @@ def _fis_name(name: str, unit: str, log: bool, log_unit: str, what: str) -> tupl
 
 
 def _parts(model) -> tuple[ANFIS, bool, bool]:
-    if isinstance(model, TableModel):
+    if isinstance(model, DampingModel):
         est, log_k, log_c = model.estimator, model.log_stiffness, model.log_damping
     else:
         est, log_k, log_c = model, False, False
     if not isinstance(est, ANFIS):
-        raise TypeError(f"to_fis needs a TableModel of an ANFIS or an ANFIS, got {type(est).__name__}")
+        raise TypeError(f"to_fis needs a DampingModel of an ANFIS or an ANFIS, got {type(est).__name__}")
     est._check_fitted()
     return est, log_k, log_c
 
@@ -126,7 +126,7 @@ def _output_range(est: ANFIS) -> tuple[float, float]:
 
 
 def to_fis(model, name: str = "uavdamp_anfis") -> str:
-    """The fitted ``TableModel`` (or ``ANFIS``) as the text of a MATLAB Sugeno ``.fis`` file (see module doc)."""
+    """The fitted ``DampingModel`` (or ``ANFIS``) as the text of a MATLAB Sugeno ``.fis`` file (see module doc)."""
     est, log_k, log_c = _parts(model)
     d, n_rules = est.n_features_in_, est.n_rules_
     if "'" in name or "\n" in name:
@@ -146,11 +146,11 @@ def to_fis(model, name: str = "uavdamp_anfis") -> str:
             f"input {variables[i][0]} is constant ({lo[i]:g}) in the training data: a .fis Range needs min < max "
             "(and the model ignores that input); refit without it"
         )
-    kind = "a TableModel" if isinstance(model, TableModel) else "an ANFIS"
+    kind = "a DampingModel" if isinstance(model, DampingModel) else "an ANFIS"
     names = {"inputs": [[n, u] for n, u in zip(est.input_names_, est.input_units_, strict=True)]}
     names["output"] = [est.output_name, est.output_units]
     lines = [
-        f"% {kind} of uavdamp (first-order Takagi-Sugeno, Gaussian MFs), written by uavdamp.anfis_fis.to_fis.",
+        f"% {kind} of uavdamp (first-order Takagi-Sugeno, Gaussian MFs), written by uavdamp.anfis.fis.to_fis.",
         "% The FIS works on the transformed values named below (log10_ prefix: decimal log; suffix: unit).",
         *[f"%   {'Input' + str(i + 1) if i < d else 'Output1'} {v} = {text}" for i, (v, text) in enumerate(variables)],
         "% Clamp every input to its Range before evalfis: the model does not extrapolate, evalfis does not clamp.",
@@ -346,8 +346,8 @@ def _names(fis_names: list[str], names: dict | None) -> tuple[list[list[str]], l
     return inputs, output
 
 
-def from_fis(text: str) -> TableModel:
-    """The ``TableModel`` of a ``.fis`` text written by ``to_fis`` (or any file it can represent; see module doc)."""
+def from_fis(text: str) -> DampingModel:
+    """The ``DampingModel`` of a ``.fis`` text written by ``to_fis`` (or any file it can represent; see module doc)."""
     sections, names = _sections(text)
     d, n_rules = _check_system(sections)
     fis_names, ranges, mfs = [], [], []
@@ -365,7 +365,7 @@ def from_fis(text: str) -> TableModel:
         raise ValueError(f"[System]: NumRules={n_rules} but [Rules] has {rules.shape[0]} rules")
     for i, n in enumerate(fis_names[:-1]):
         if n.startswith(LOG) and i != 2:
-            raise ValueError(f"[Input{i + 1}]: {n} is log-transformed; a TableModel transforms only input 3 (K)")
+            raise ValueError(f"[Input{i + 1}]: {n} is log-transformed; a DampingModel transforms only input 3 (K)")
     inputs, output = _names(fis_names, names)
     consequents = np.array([np.r_[np.zeros(d), p] if kind == "constant" else p for kind, p in out_mfs])
     est = ANFIS(
@@ -388,4 +388,4 @@ def from_fis(text: str) -> TableModel:
     incidence = np.zeros((n_rules, est.centres_.size))  # as ANFIS.from_dataset: rule x MF 0/1 matrix
     np.put_along_axis(incidence, est.rule_mf_, 1.0, axis=1)
     est._incidence_ = incidence
-    return TableModel(est, d >= 3 and fis_names[2].startswith(LOG), out_name.startswith(LOG))
+    return DampingModel(est, d >= 3 and fis_names[2].startswith(LOG), out_name.startswith(LOG))

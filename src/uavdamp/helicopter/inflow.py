@@ -127,7 +127,7 @@ def induced_velocity(state, r_over_radius, psi, omega_rad_s: float, radius: floa
     """Induced velocity, m/s, positive down, at stations (r/R, psi): Omega R (nu_0 + nu_s r sin psi + nu_c r cos psi).
 
     Broadcasts r_over_radius against psi (e.g. (S,) stations and (B, 1) blade azimuths). The air velocity to
-    give `rotor_aero.section_velocities` is then -v_i along the shaft (hub +z).
+    give `aerodynamics.section_velocities` is then -v_i along the shaft (hub +z).
     """
     nu_0, nu_s, nu_c = (float(v) for v in state)
     r = np.asarray(r_over_radius, dtype=float)

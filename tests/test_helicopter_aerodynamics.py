@@ -9,11 +9,12 @@ import exudyn as exu
 import exudyn.itemInterface as eii
 import numpy as np
 import pytest
+from conftest import helicopter_of
 from scipy.integrate import solve_ivp
 
 from uavdamp import helicopter as H
-from uavdamp import rotor_aero as A
-from uavdamp import rotor_inflow as I
+from uavdamp.helicopter import aerodynamics as A
+from uavdamp.helicopter import inflow as I
 
 OMEGA = 44.4  # rad/s, uavdamp main rotor
 RHO = A.AIR_DENSITY
@@ -77,8 +78,8 @@ def test_tip_down_flap_rate_gives_upflow():
 
 def test_the_uavdamp_blade_links_are_blade_frames(default_config):
     """Exudyn's feather links of the uavdamp tree: U_T = Omega r, a flap-coordinate rate q' gives U_P = -s q' (tip
-    down), a feather angle turns the leading edge (frame y) up: the conventions `rotor_aero` documents."""
-    heli = H.Helicopter.from_config(default_config["helicopter"]).balanced()
+    down), a feather angle turns the leading edge (frame y) up: the conventions `aerodynamics` documents."""
+    heli = helicopter_of(default_config["helicopter"]).balanced()
     model = H.build(heli, fix_fuselage=True)
     mbs, blade, flap_rate, feather = model.mbs, A.BO105_MAIN, 0.5, 0.1
     flap = H.HUB_LINK + 1  # blade 0: flap, lag, feather links
