@@ -191,12 +191,12 @@ def test_training_is_deterministic():
 
 
 def test_quick_stage_outputs(quick_run):
-    model = learning.DampingModel.from_dataset(io.open_dataset(quick_run / "reports/anfis/model.nc"))
-    record = io.open_dataset(quick_run / "reports/anfis/training.nc")
+    model = learning.DampingModel.from_dataset(io.open_dataset(quick_run / "reports-quick/anfis/model.nc"))
+    record = io.open_dataset(quick_run / "reports-quick/anfis/training.nc")
     X = np.column_stack([record[n].values for n in learning.INPUTS])
     np.testing.assert_array_equal(model.predict(X), record.damping_predicted.values)
     assert record.sizes["epoch"] == 50 and np.all(record.regret.values >= 1 - 1e-12)
-    rules = (quick_run / "reports/anfis/rules.txt").read_text()
+    rules = (quick_run / "reports-quick/anfis/rules.txt").read_text()
     assert rules.count("IF ") == model.anfis.n_rules_
     for name in ("anfis_membership", "anfis_training", "anfis_selection"):
-        assert (quick_run / f"reports/figures/{name}.png").stat().st_size > 10_000
+        assert (quick_run / f"reports-quick/figures/{name}.png").stat().st_size > 10_000

@@ -101,8 +101,8 @@ def test_quick_benchmark(inputs, params, options, quick_run, tmp_path):
     controller, gather, write."""
     split = scenarios.split(list(inputs), SPLIT.tuning_fraction, SPLIT.seed)
     tuned = benchmark.tune({n: inputs[n] for n in inputs if split[n] == "tuning"}, params, options)
-    table = io.open_dataset(quick_run / "reports/reference_table/table.nc")
-    model = DampingModel.from_dataset(io.open_dataset(quick_run / "reports/anfis/model.nc"))
+    table = io.open_dataset(quick_run / "reports-quick/reference_table/table.nc")
+    model = DampingModel.from_dataset(io.open_dataset(quick_run / "reports-quick/anfis/model.nc"))
     runs = [benchmark.run_scenario(inputs[n], tuned, params, options, model=model, table=table) for n in inputs]
     ds = benchmark.gather(runs, split, tuned)
     assert ds.J.dims == ("scenario", "controller", "stiffness", "criterion", "damper")
@@ -126,19 +126,19 @@ def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
 
     workdir = copy_workflow(tmp_path / "wf")
     result = snakemake(
-        workdir, "-n", "reports/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml", timeout=300
+        workdir, "-n", "reports-quick/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml", timeout=300
     )
     assert result.returncode == 0, result.stderr[-3000:]
     split = scenarios.split(scenarios.scenario_specs(BENCH), SPLIT.tuning_fraction, SPLIT.seed)
-    wanted = {f"reports/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}
-    found = {w.strip(",") for w in result.stdout.split() if w.startswith("reports/benchmark/scenarios/")}
+    wanted = {f"reports-quick/benchmark/scenarios/{n}.nc" for n, s in split.items() if s == "tuning"}
+    found = {w.strip(",") for w in result.stdout.split() if w.startswith("reports-quick/benchmark/scenarios/")}
     assert found == wanted
 
 
 def test_benchmark_target_runs_end_to_end(quick_run):
     """`snakemake benchmark` on the quick config from a clean folder, upstream included (the session's quick run):
     criteria.nc holds every controller, scenario and criterion, and the table lookup ran on the real table."""
-    ds = io.open_dataset(quick_run / "reports/benchmark/criteria.nc")
+    ds = io.open_dataset(quick_run / "reports-quick/benchmark/criteria.nc")
     split = scenarios.split(scenarios.scenario_specs(BENCH), SPLIT.tuning_fraction, SPLIT.seed)
     assert sorted(ds.scenario.values) == sorted(split)
     assert list(ds.controller.values) == list(BENCH_CONTROLLERS)

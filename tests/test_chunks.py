@@ -54,7 +54,7 @@ def test_a_killed_holder_releases_the_lock(tmp_path):
 
 @pytest.fixture(scope="module")
 def quick_chunks(quick_run):
-    return quick_run / "reports/reference_table/chunks"
+    return quick_run / "reports-quick/reference_table/chunks"
 
 
 def _config(quick_run, path):
@@ -106,18 +106,20 @@ def test_gather_refuses_a_damaged_chunk_in_the_pipeline(quick_run, tmp_path):
     from conftest import copy_workflow
 
     work = copy_workflow(tmp_path)
-    shutil.copytree(quick_run / "reports" / "reference_table", work / "reports" / "reference_table")
-    bad = work / "reports/reference_table/chunks/3-of-3.nc"
+    shutil.copytree(quick_run / "reports-quick" / "reference_table", work / "reports-quick" / "reference_table")
+    bad = work / "reports-quick/reference_table/chunks/3-of-3.nc"
     ds = io.open_dataset(bad)
     name = next(v for v in ds.data_vars if v.startswith("criterion"))
     ds[name].values[..., 0] = 0.0
     io.write_netcdf(
         ds.drop_attrs(deep=False), bad, json.loads(ds.attrs["config_reference_table"]), section="reference_table"
     )
-    (work / "reports/reference_table/grid.nc").unlink()
-    result = snakemake(work, "-j1", "reports/reference_table/grid.nc", "--configfile", "config/quick.yaml", timeout=600)
-    log = (work / "reports/logs/reference_table/gather.log").read_text()
+    (work / "reports-quick/reference_table/grid.nc").unlink()
+    result = snakemake(
+        work, "-j1", "reports-quick/reference_table/grid.nc", "--configfile", "config/quick.yaml", timeout=600
+    )
+    log = (work / "reports-quick/logs/reference_table/gather.log").read_text()
     assert result.returncode != 0
     assert "3-of-3.nc" in log and "is not finite and positive" in log, log[-2000:]
     # the run stops at the gather: no grid or table made from the bad chunk
-    assert not (work / "reports/reference_table/grid.nc").exists()
+    assert not (work / "reports-quick/reference_table/grid.nc").exists()

@@ -140,7 +140,10 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
         if line.strip().startswith("output:")
         for path in line.split("output:", 1)[1].split(",")
     ]
-    assert "reports/figures/reference_table_criteria.png" in outputs and "reports/figures/study_blur.png" in outputs
+    assert (
+        "reports-quick/figures/reference_table_criteria.png" in outputs
+        and "reports-quick/figures/study_blur.png" in outputs
+    )
     for path in outputs:
         target = work / path
         if path.endswith("study_strategies"):

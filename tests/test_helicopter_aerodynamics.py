@@ -15,6 +15,7 @@ from scipy.integrate import solve_ivp
 from uavdamp import helicopter as H
 from uavdamp.helicopter import aerodynamics as A
 from uavdamp.helicopter import inflow as I
+from uavdamp.helicopter import model as model_links
 
 OMEGA = 44.4  # rad/s, uavdamp main rotor
 RHO = A.AIR_DENSITY
@@ -35,7 +36,7 @@ def coefficients(blade: A.BladeAero, collective: float, lam: float) -> tuple[flo
 @pytest.fixture(scope="module")
 def weight(default_config) -> float:
     """Weight of the whole uavdamp helicopter (fuselage 2200 kg and all blades), N."""
-    return H.Helicopter.from_config(default_config["helicopter"]).total_mass() * G
+    return helicopter_of(default_config["helicopter"]).total_mass() * G
 
 
 # --- kinematics --------------------------------------------------------------------------------------------------
@@ -82,7 +83,7 @@ def test_the_uavdamp_blade_links_are_blade_frames(default_config):
     heli = helicopter_of(default_config["helicopter"]).balanced()
     model = H.build(heli, fix_fuselage=True)
     mbs, blade, flap_rate, feather = model.mbs, A.BO105_MAIN, 0.5, 0.1
-    flap = H.HUB_LINK + 1  # blade 0: flap, lag, feather links
+    flap = model_links.HUB_LINK + 1  # blade 0: flap, lag, feather links
     for name, value in (("initialCoordinates_t", flap_rate), ("initialCoordinates", feather)):
         q = np.array(mbs.GetNodeParameter(model.node, name))
         q[flap + (0 if name.endswith("_t") else 2)] = value

@@ -309,8 +309,8 @@ def test_bad_grid_config_names_the_key(quick_config):
 
 
 def test_quick_table_in_pipeline(quick_run):
-    table = io.open_dataset(quick_run / "reports/reference_table/table.nc")
-    full = io.open_dataset(quick_run / "reports/reference_table/grid.nc")
+    table = io.open_dataset(quick_run / "reports-quick/reference_table/table.nc")
+    full = io.open_dataset(quick_run / "reports-quick/reference_table/grid.nc")
     for name in criterion.CRITERIA:
         for window in full.window.values:
             crit = full[criterion.variable(name)].sel(window=window).transpose(*grid.DIMS).values
@@ -319,19 +319,19 @@ def test_quick_table_in_pipeline(quick_run):
     assert (table.attrs["criterion"], table.attrs["window"]) == ("displacement", "transient")
     assert full.attrs["n_failed"] == 0 and int(full.failed.sum()) == 0
     for figure in ("reference_table.png", "reference_table_criteria.png"):
-        assert (quick_run / "reports/figures" / figure).stat().st_size > 10_000
+        assert (quick_run / "reports-quick/figures" / figure).stat().st_size > 10_000
 
 
 def test_resume_after_kill_gives_identical_table(quick_run, tmp_path):
     """Kill Snakemake after the first chunk, rerun: finished chunks kept, table identical."""
     workdir = copy_workflow(tmp_path)
-    target = "reports/reference_table/table.nc"
+    target = "reports-quick/reference_table/table.nc"
     cmd = [sys.executable, "-m", "snakemake", "-j1", target, "--configfile", "config/quick.yaml"]
     proc = subprocess.Popen(
         cmd, cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
     )
-    chunks = workdir / "reports/reference_table/chunks"
-    logs = workdir / "reports/logs/reference_table"
+    chunks = workdir / "reports-quick/reference_table/chunks"
+    logs = workdir / "reports-quick/logs/reference_table"
     started: list[str] = []  # chunk jobs in the order their logs appeared (-j1: one at a time)
     deadline = time.monotonic() + 600
     try:

@@ -54,7 +54,7 @@ def test_cases_high_pass_and_scale():
 
 @pytest.fixture(scope="module")
 def comparison(quick_run):
-    return io.open_dataset(quick_run / "reports/study/comparison.nc")
+    return io.open_dataset(quick_run / "reports-quick/study/comparison.nc")
 
 
 def test_comparison_layout(comparison, quick_config):
@@ -108,7 +108,7 @@ def test_html_report(quick_run):
     result = snakemake(
         quick_run,
         "--report",
-        "reports/report.html",
+        "reports-quick/report.html",
         "all",
         "benchmark",
         "--configfile",
@@ -116,8 +116,8 @@ def test_html_report(quick_run):
         timeout=600,
     )
     assert result.returncode == 0, result.stderr[-3000:]
-    html = (quick_run / "reports/report.html").read_text(errors="replace")
-    figures = sorted(p.name for p in (quick_run / "reports/figures").rglob("*.png"))
+    html = (quick_run / "reports-quick/report.html").read_text(errors="replace")
+    figures = sorted(p.name for p in (quick_run / "reports-quick/figures").rglob("*.png"))
     assert len(figures) >= 12, figures
     missing = [name for name in [*figures, "rules.txt"] if name not in html]
     assert not missing, f"not in the report: {missing}"

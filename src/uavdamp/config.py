@@ -13,6 +13,7 @@ AnfisOptions), study (`uavdamp.study`: StudySection), camera (`uavdamp.camera`: 
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, replace
 
 from uavdamp.anfis import AnfisOptions
@@ -23,7 +24,7 @@ from uavdamp.helicopter import HelicopterSection
 from uavdamp.platform import PlatformSection
 from uavdamp.reference_table import ReferenceTableSection
 from uavdamp.scenarios import ScenarioOptions, Split
-from uavdamp.settings import RENAMED, ConfigError, parse, setting, view
+from uavdamp.settings import RENAMED, ConfigError, parse, require, setting, view
 from uavdamp.study import StudyOptions, StudySection
 from uavdamp.tracking import TrackerOptions
 
@@ -41,10 +42,14 @@ class BenchmarkSection(BenchmarkOptions, ScenarioOptions):
         ScenarioOptions.validate(self)
 
 
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")  # a name that becomes a file or folder name
+
+
 @dataclass(frozen=True)
 class Config:
     """The whole config, every section typed."""
 
+    output_dir: str  # folder (relative, no ..) every output goes under
     helicopter: HelicopterSection
     platform: PlatformSection
     reference_table: ReferenceTableSection
@@ -53,6 +58,14 @@ class Config:
     camera: CameraModel
     budget: Budget
     benchmark: BenchmarkSection
+
+    def validate(self) -> None:
+        parts = self.output_dir.split("/")
+        require(
+            all(NAME_PATTERN.fullmatch(p) and p != ".." for p in parts),
+            "output_dir",
+            f"must be a relative folder of names [A-Za-z0-9_.-] (no '..', not absolute), got {self.output_dir!r}",
+        )
 
 
 def load(mapping) -> Config:

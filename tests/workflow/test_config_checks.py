@@ -31,7 +31,7 @@ BAD = {
 def workdir(tmp_path_factory):
     """A scratch workflow with a previous output in place, which no refused run may touch."""
     work = copy_workflow(tmp_path_factory.mktemp("refuse"))
-    previous = work / "reports" / "study" / "comparison.nc"
+    previous = work / "reports-quick" / "study" / "comparison.nc"
     previous.parent.mkdir(parents=True)
     previous.write_text("previous good result")
     return work
@@ -47,9 +47,9 @@ def test_snakemake_refuses_before_any_job(workdir, case):
     assert result.returncode != 0, output[-2000:]
     assert message in output, output[-3000:]
     assert "Building DAG" not in output and "localrule" not in output and "rule " not in output, output[-2000:]
-    files = sorted(p.relative_to(workdir).as_posix() for p in (workdir / "reports").rglob("*") if p.is_file())
-    assert files == ["reports/study/comparison.nc"], files
-    assert (workdir / "reports/study/comparison.nc").read_text() == "previous good result"
+    files = sorted(p.relative_to(workdir).as_posix() for p in (workdir / "reports-quick").rglob("*") if p.is_file())
+    assert files == ["reports-quick/study/comparison.nc"], files
+    assert (workdir / "reports-quick/study/comparison.nc").read_text() == "previous good result"
 
 
 def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):

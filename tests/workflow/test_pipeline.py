@@ -74,7 +74,7 @@ def test_bad_config_refused_before_any_job(tmp_path, path, value, named):
 
 
 def test_quick_study_end_to_end(quick_run):
-    vib = io.open_dataset(quick_run / "reports/helicopter/vibration.nc")
+    vib = io.open_dataset(quick_run / "reports-quick/helicopter/vibration.nc")
     assert set(vib.rotor.values) == {"balanced", "imbalanced"}
     assert list(vib.axis.values) == ["x", "y", "z"]
     assert vib.displacement.dims == ("rotor", "axis", "time")
@@ -87,15 +87,15 @@ def test_quick_study_end_to_end(quick_run):
     assert float(balanced) < 1e-6 * float(imbalanced)
     config = io.read_config_attr(vib, "helicopter")
     assert config["solver"]["duration_s"] == 4.0  # the quick override reached the job
-    assert (quick_run / "reports/figures/fuselage_vibration.png").stat().st_size > 10_000
-    assert (quick_run / "reports/logs/helicopter_vibration.log").exists()
-    assert (quick_run / "reports/benchmarks/helicopter_run_imbalanced.tsv").exists()
+    assert (quick_run / "reports-quick/figures/fuselage_vibration.png").stat().st_size > 10_000
+    assert (quick_run / "reports-quick/logs/helicopter_vibration.log").exists()
+    assert (quick_run / "reports-quick/benchmarks/helicopter_run_imbalanced.tsv").exists()
 
 
 def test_every_netcdf_passes_cf_checker(quick_run, tmp_path):
     cchecker = shutil.which("cchecker.py", path=str(Path(sys.executable).parent)) or shutil.which("cchecker.py")
     assert cchecker, "compliance-checker is a test dependency"
-    files = sorted((quick_run / "reports").rglob("*.nc"))
+    files = sorted((quick_run / "reports-quick").rglob("*.nc"))
     assert files
     for path in files:
         report = tmp_path / (path.stem + ".json")
@@ -123,3 +123,9 @@ def test_config_edit_reruns_only_affected_rules(quick_run, tmp_path):
     plan = result.stdout + result.stderr
     assert "helicopter_vibration" in plan
     assert "helicopter_run" not in plan
+
+
+def test_the_quick_config_writes_nothing_into_the_default_output_folder(quick_run):
+    """config/quick.yaml's output_dir keeps a test run apart from the study's results (reports/)."""
+    assert (quick_run / "reports-quick" / "study" / "comparison.nc").exists()
+    assert not (quick_run / "reports").exists()

@@ -9,19 +9,19 @@ from conftest import planned_rules, snakemake
 
 # one output of each kind per producing rule (rule name, path under the quick run's folder)
 OUTPUTS = [
-    ("helicopter_run", "reports/helicopter/runs/imbalanced.nc"),
-    ("helicopter_vibration", "reports/figures/fuselage_vibration.png"),
-    ("helicopter_campbell", "reports/helicopter/campbell.nc"),
-    ("helicopter_sensitivity_run", "reports/helicopter/sensitivity/baseline.nc"),
-    ("helicopter_sensitivity", "reports/figures/helicopter_sensitivity.png"),
-    ("platform_modes", "reports/figures/platform_response.png"),
-    ("reference_table_chunk", "reports/reference_table/chunks/2-of-3.nc"),
-    ("reference_table", "reports/reference_table/grid.nc"),
-    ("anfis", "reports/anfis/rules.txt"),
-    ("anfis", "reports/anfis/training.nc"),
-    ("anfis", "reports/figures/anfis_selection.png"),
-    ("excitation", "reports/excitation/cases.nc"),
-    ("study", "reports/figures/study_fig12_tracked_frequency.png"),
+    ("helicopter_run", "reports-quick/helicopter/runs/imbalanced.nc"),
+    ("helicopter_vibration", "reports-quick/figures/fuselage_vibration.png"),
+    ("helicopter_campbell", "reports-quick/helicopter/campbell.nc"),
+    ("helicopter_sensitivity_run", "reports-quick/helicopter/sensitivity/baseline.nc"),
+    ("helicopter_sensitivity", "reports-quick/figures/helicopter_sensitivity.png"),
+    ("platform_modes", "reports-quick/figures/platform_response.png"),
+    ("reference_table_chunk", "reports-quick/reference_table/chunks/2-of-3.nc"),
+    ("reference_table", "reports-quick/reference_table/grid.nc"),
+    ("anfis", "reports-quick/anfis/rules.txt"),
+    ("anfis", "reports-quick/anfis/training.nc"),
+    ("anfis", "reports-quick/figures/anfis_selection.png"),
+    ("excitation", "reports-quick/excitation/cases.nc"),
+    ("study", "reports-quick/figures/study_fig12_tracked_frequency.png"),
 ]
 
 

@@ -21,7 +21,7 @@ from uavdamp import io
 
 pytestmark = pytest.mark.slurm
 
-TARGET = "reports/reference_table/table.nc"
+TARGET = "reports-quick/reference_table/table.nc"
 PROFILE = ROOT / "profiles" / "slurm"
 RUN_TIMEOUT_S = 600  # hard kill (SIGKILL) of a hung Snakemake: it has been seen to ignore SIGTERM/SIGINT
 CHUNK_THREADS = 1  # CPUs per chunk job on the 2-CPU test node: two chunks run at once
@@ -138,8 +138,8 @@ def _items(n: int) -> list[str]:
 
 def _assert_same_numbers(workdir: Path, reference: Path) -> None:
     for name in ("grid.nc", "table.nc"):
-        got = io.open_dataset(workdir / "reports/reference_table" / name)
-        want = io.open_dataset(reference / "reports/reference_table" / name)
+        got = io.open_dataset(workdir / "reports-quick/reference_table" / name)
+        want = io.open_dataset(reference / "reports-quick/reference_table" / name)
         assert set(got.data_vars) == set(want.data_vars), name
         for var in want.data_vars:
             np.testing.assert_array_equal(got[var].values, want[var].values, err_msg=f"{name}:{var}")
@@ -149,7 +149,7 @@ def _assert_same_numbers(workdir: Path, reference: Path) -> None:
 
 def _assert_ran_as_slurm_job(cluster, workdir: Path, item: str, slurm_id: str, state: str) -> None:
     """The chunk's own log names the SLURM job; SLURM's records agree (rule, wildcards, state, CPUs)."""
-    log = (workdir / f"reports/logs/reference_table/{item}.log").read_text()
+    log = (workdir / f"reports-quick/logs/reference_table/{item}.log").read_text()
     if state == "COMPLETED":  # a chunk forced to fail raises before it logs its job id
         assert re.search(rf"SLURM job {slurm_id}\b", log), log[-2000:]
         assert f" {CHUNK_THREADS} workers" in log, "the chunk's joblib must use the job's threads"
@@ -177,7 +177,7 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     items = _items(n_chunks)
     bad = items[1]
     workdir = copy_workflow(tmp_path)
-    chunks = workdir / "reports/reference_table/chunks"
+    chunks = workdir / "reports-quick/reference_table/chunks"
 
     # the chunk's job raises (tests/slurm/fail_chunk/sitecustomize.py, loaded by every job's Python)
     monkeypatch.setenv(
@@ -191,7 +191,7 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     assert result.returncode != 0, output[-6000:]
     assert "Error in rule reference_table_chunk" in output, output[-6000:]
     assert f"SLURM-job '{submitted[bad][1]}' failed" in output, output[-6000:]
-    assert "failed on purpose" in (workdir / f"reports/logs/reference_table/{bad}.log").read_text()
+    assert "failed on purpose" in (workdir / f"reports-quick/logs/reference_table/{bad}.log").read_text()
     _assert_ran_as_slurm_job(slurm_cluster, workdir, bad, submitted[bad][1], "FAILED")
     good = [item for item in items if item != bad]
     for item in good:  # keep-going (profile): the other chunks finished

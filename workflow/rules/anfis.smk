@@ -1,34 +1,34 @@
 rule anfis:
     input:
-        table="reports/reference_table/table.nc",
-        grid="reports/reference_table/grid.nc",
+        table=f"{OUT}/reference_table/table.nc",
+        grid=f"{OUT}/reference_table/grid.nc",
     output:
-        model="reports/anfis/model.nc",
-        training="reports/anfis/training.nc",
+        model=f"{OUT}/anfis/model.nc",
+        training=f"{OUT}/anfis/training.nc",
         rules=report(
-            "reports/anfis/rules.txt",
+            f"{OUT}/anfis/rules.txt",
             caption="../report/anfis_rules.rst",
             category="ANFIS",
         ),
         membership=report(
-            "reports/figures/anfis_membership.png",
+            f"{OUT}/figures/anfis_membership.png",
             caption="../report/anfis_membership.rst",
             category="ANFIS",
         ),
         errors=report(
-            "reports/figures/anfis_training.png",
+            f"{OUT}/figures/anfis_training.png",
             caption="../report/anfis_training.rst",
             category="ANFIS",
         ),
         selection=report(
-            "reports/figures/anfis_selection.png",
+            f"{OUT}/figures/anfis_selection.png",
             caption="../report/anfis_selection.rst",
             category="ANFIS",
         ),
     log:
-        "reports/logs/anfis.log",
+        f"{OUT}/logs/anfis.log",
     benchmark:
-        "reports/benchmarks/anfis.tsv"
+        f"{OUT}/benchmarks/anfis.tsv"
     conda:
         ENV
     params:

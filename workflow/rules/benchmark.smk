@@ -18,18 +18,18 @@ BENCHMARK_STIFFNESS = [
     f"{float(k):g}" for k in BENCHMARK["stiffness_n_m"]
 ]  # one tuning job each
 BENCHMARK_TUNED = expand(
-    "reports/benchmark/tuned/K{stiffness}.nc", stiffness=BENCHMARK_STIFFNESS
+    f"{OUT}/benchmark/tuned/K{{stiffness}}.nc", stiffness=BENCHMARK_STIFFNESS
 )
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
 
 
 rule benchmark_scenario:
     output:
-        "reports/benchmark/scenarios/{scenario}.nc",
+        f"{OUT}/benchmark/scenarios/{{scenario}}.nc",
     log:
-        "reports/logs/benchmark_scenario_{scenario}.log",
+        f"{OUT}/logs/benchmark_scenario_{{scenario}}.log",
     benchmark:
-        "reports/benchmarks/benchmark_scenario_{scenario}.tsv"
+        f"{OUT}/benchmarks/benchmark_scenario_{{scenario}}.tsv"
     wildcard_constraints:
         scenario="|".join(BENCHMARK_SCENARIOS),
     conda:
@@ -45,14 +45,14 @@ rule benchmark_scenario:
 rule benchmark_tune:
     input:
         scenarios=expand(
-            "reports/benchmark/scenarios/{scenario}.nc", scenario=BENCHMARK_TUNING
+            f"{OUT}/benchmark/scenarios/{{scenario}}.nc", scenario=BENCHMARK_TUNING
         ),
     output:
-        "reports/benchmark/tuned/K{stiffness}.nc",
+        f"{OUT}/benchmark/tuned/K{{stiffness}}.nc",
     log:
-        "reports/logs/benchmark_tune_K{stiffness}.log",
+        f"{OUT}/logs/benchmark_tune_K{{stiffness}}.log",
     benchmark:
-        "reports/benchmarks/benchmark_tune_K{stiffness}.tsv"
+        f"{OUT}/benchmarks/benchmark_tune_K{{stiffness}}.tsv"
     wildcard_constraints:
         stiffness="|".join(BENCHMARK_STIFFNESS),
     conda:
@@ -68,16 +68,16 @@ rule benchmark_tune:
 
 rule benchmark_run:
     input:
-        scenario="reports/benchmark/scenarios/{scenario}.nc",
+        scenario=f"{OUT}/benchmark/scenarios/{{scenario}}.nc",
         tuned=BENCHMARK_TUNED,
-        model="reports/anfis/model.nc",
-        table="reports/reference_table/table.nc",
+        model=f"{OUT}/anfis/model.nc",
+        table=f"{OUT}/reference_table/table.nc",
     output:
-        "reports/benchmark/runs/{scenario}.nc",
+        f"{OUT}/benchmark/runs/{{scenario}}.nc",
     log:
-        "reports/logs/benchmark_run_{scenario}.log",
+        f"{OUT}/logs/benchmark_run_{{scenario}}.log",
     benchmark:
-        "reports/benchmarks/benchmark_run_{scenario}.tsv"
+        f"{OUT}/benchmarks/benchmark_run_{{scenario}}.tsv"
     wildcard_constraints:
         scenario="|".join(BENCHMARK_SCENARIOS),
     conda:
@@ -94,26 +94,26 @@ rule benchmark_run:
 rule benchmark_gather:
     input:
         runs=expand(
-            "reports/benchmark/runs/{scenario}.nc", scenario=BENCHMARK_SCENARIOS
+            f"{OUT}/benchmark/runs/{{scenario}}.nc", scenario=BENCHMARK_SCENARIOS
         ),
         tuned=BENCHMARK_TUNED,
     output:
-        criteria="reports/benchmark/criteria.nc",
-        table="reports/benchmark/table.md",
+        criteria=f"{OUT}/benchmark/criteria.nc",
+        table=f"{OUT}/benchmark/table.md",
         figure=report(
-            "reports/figures/benchmark_criteria.png",
+            f"{OUT}/figures/benchmark_criteria.png",
             caption="../report/benchmark_criteria.rst",
             category="Benchmark",
         ),
         boxplots=report(
-            "reports/figures/benchmark_boxplots.png",
+            f"{OUT}/figures/benchmark_boxplots.png",
             caption="../report/benchmark_boxplots.rst",
             category="Benchmark",
         ),
     log:
-        "reports/logs/benchmark_gather.log",
+        f"{OUT}/logs/benchmark_gather.log",
     benchmark:
-        "reports/benchmarks/benchmark_gather.tsv"
+        f"{OUT}/benchmarks/benchmark_gather.tsv"
     conda:
         ENV
     params:

@@ -10,6 +10,9 @@ from uavdamp.settings import view
 from uavdamp.study import StudyOptions
 from uavdamp.workflow import canonical
 
+OUT = config[
+    "output_dir"
+]  # every output, log and benchmark file of the run goes under this folder
 ROTORS = ["balanced", "imbalanced"]  # rotor states of the vibration stage
 RUNS = ROTORS + [
     "both_rotors"

@@ -9,11 +9,11 @@ SENSITIVITY_RUNS = ["baseline"] + [
 
 rule helicopter_run:
     output:
-        "reports/helicopter/runs/{rotor}.nc",
+        f"{OUT}/helicopter/runs/{{rotor}}.nc",
     log:
-        "reports/logs/helicopter_run_{rotor}.log",
+        f"{OUT}/logs/helicopter_run_{{rotor}}.log",
     benchmark:
-        "reports/benchmarks/helicopter_run_{rotor}.tsv"
+        f"{OUT}/benchmarks/helicopter_run_{{rotor}}.tsv"
     wildcard_constraints:
         rotor="|".join(RUNS),
     conda:
@@ -26,16 +26,16 @@ rule helicopter_run:
 
 rule helicopter_vibration:
     input:
-        runs=expand("reports/helicopter/runs/{rotor}.nc", rotor=ROTORS),
+        runs=expand(f"{OUT}/helicopter/runs/{{rotor}}.nc", rotor=ROTORS),
     output:
-        vibration="reports/helicopter/vibration.nc",
+        vibration=f"{OUT}/helicopter/vibration.nc",
         figure=report(
-            "reports/figures/fuselage_vibration.png",
+            f"{OUT}/figures/fuselage_vibration.png",
             caption="../report/fuselage_vibration.rst",
             category="Helicopter",
         ),
     log:
-        "reports/logs/helicopter_vibration.log",
+        f"{OUT}/logs/helicopter_vibration.log",
     conda:
         ENV
     params:
@@ -48,16 +48,16 @@ rule helicopter_vibration:
 
 rule helicopter_campbell:
     output:
-        campbell="reports/helicopter/campbell.nc",
+        campbell=f"{OUT}/helicopter/campbell.nc",
         figure=report(
-            "reports/figures/helicopter_campbell.png",
+            f"{OUT}/figures/helicopter_campbell.png",
             caption="../report/helicopter_campbell.rst",
             category="Helicopter",
         ),
     log:
-        "reports/logs/helicopter_campbell.log",
+        f"{OUT}/logs/helicopter_campbell.log",
     benchmark:
-        "reports/benchmarks/helicopter_campbell.tsv"
+        f"{OUT}/benchmarks/helicopter_campbell.tsv"
     conda:
         ENV
     params:
@@ -69,11 +69,11 @@ rule helicopter_campbell:
 
 rule helicopter_sensitivity_run:
     output:
-        "reports/helicopter/sensitivity/{run}.nc",
+        f"{OUT}/helicopter/sensitivity/{{run}}.nc",
     log:
-        "reports/logs/helicopter_sensitivity/{run}.log",
+        f"{OUT}/logs/helicopter_sensitivity/{{run}}.log",
     benchmark:
-        "reports/benchmarks/helicopter_sensitivity/{run}.tsv"
+        f"{OUT}/benchmarks/helicopter_sensitivity/{{run}}.tsv"
     wildcard_constraints:
         run="baseline|[a-z_]+=[-+.0-9e]+",
     conda:
@@ -87,16 +87,16 @@ rule helicopter_sensitivity_run:
 
 rule helicopter_sensitivity:
     input:
-        runs=expand("reports/helicopter/sensitivity/{run}.nc", run=SENSITIVITY_RUNS),
+        runs=expand(f"{OUT}/helicopter/sensitivity/{{run}}.nc", run=SENSITIVITY_RUNS),
     output:
-        sensitivity="reports/helicopter/sensitivity.nc",
+        sensitivity=f"{OUT}/helicopter/sensitivity.nc",
         figure=report(
-            "reports/figures/helicopter_sensitivity.png",
+            f"{OUT}/figures/helicopter_sensitivity.png",
             caption="../report/helicopter_sensitivity.rst",
             category="Helicopter",
         ),
     log:
-        "reports/logs/helicopter_sensitivity.log",
+        f"{OUT}/logs/helicopter_sensitivity.log",
     conda:
         ENV
     params:

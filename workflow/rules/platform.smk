@@ -1,15 +1,15 @@
 rule platform_modes:
     output:
-        modes="reports/platform/modes.nc",
+        modes=f"{OUT}/platform/modes.nc",
         figure=report(
-            "reports/figures/platform_response.png",
+            f"{OUT}/figures/platform_response.png",
             caption="../report/platform_response.rst",
             category="Platform",
         ),
     log:
-        "reports/logs/platform_modes.log",
+        f"{OUT}/logs/platform_modes.log",
     benchmark:
-        "reports/benchmarks/platform_modes.tsv"
+        f"{OUT}/benchmarks/platform_modes.tsv"
     conda:
         ENV
     params:

@@ -1,10 +1,10 @@
 rule reference_table_chunk:
     output:
-        "reports/reference_table/chunks/{scatteritem}.nc",
+        f"{OUT}/reference_table/chunks/{{scatteritem}}.nc",
     log:
-        "reports/logs/reference_table/{scatteritem}.log",
+        f"{OUT}/logs/reference_table/{{scatteritem}}.log",
     benchmark:
-        "reports/benchmarks/reference_table/{scatteritem}.tsv"
+        f"{OUT}/benchmarks/reference_table/{{scatteritem}}.tsv"
     conda:
         ENV
     threads: config["reference_table"]["threads"]
@@ -18,24 +18,26 @@ rule reference_table_chunk:
 
 rule reference_table:
     input:
-        chunks=gather.reference_table("reports/reference_table/chunks/{scatteritem}.nc"),
+        chunks=gather.reference_table(
+            f"{OUT}/reference_table/chunks/{{scatteritem}}.nc"
+        ),
     output:
-        grid="reports/reference_table/grid.nc",
-        table="reports/reference_table/table.nc",
+        grid=f"{OUT}/reference_table/grid.nc",
+        table=f"{OUT}/reference_table/table.nc",
         figure=report(
-            "reports/figures/reference_table.png",
+            f"{OUT}/figures/reference_table.png",
             caption="../report/reference_table.rst",
             category="Reference table",
         ),
         criteria=report(
-            "reports/figures/reference_table_criteria.png",
+            f"{OUT}/figures/reference_table_criteria.png",
             caption="../report/reference_table_criteria.rst",
             category="Reference table",
         ),
     log:
-        "reports/logs/reference_table/gather.log",
+        f"{OUT}/logs/reference_table/gather.log",
     benchmark:
-        "reports/benchmarks/reference_table/gather.tsv"
+        f"{OUT}/benchmarks/reference_table/gather.tsv"
     conda:
         ENV
     threads: config["reference_table"]["threads"]

@@ -1,10 +1,10 @@
 rule excitation:
     input:
-        runs=expand("reports/helicopter/runs/{rotor}.nc", rotor=RUNS),
+        runs=expand(f"{OUT}/helicopter/runs/{{rotor}}.nc", rotor=RUNS),
     output:
-        "reports/excitation/cases.nc",
+        f"{OUT}/excitation/cases.nc",
     log:
-        "reports/logs/excitation.log",
+        f"{OUT}/logs/excitation.log",
     conda:
         ENV
     params:
@@ -16,50 +16,50 @@ rule excitation:
 
 rule study:
     input:
-        cases="reports/excitation/cases.nc",
-        model="reports/anfis/model.nc",
+        cases=f"{OUT}/excitation/cases.nc",
+        model=f"{OUT}/anfis/model.nc",
     output:
-        comparison="reports/study/comparison.nc",
+        comparison=f"{OUT}/study/comparison.nc",
         fig10=report(
-            "reports/figures/study_fig10_rigid.png",
+            f"{OUT}/figures/study_fig10_rigid.png",
             caption="../report/study_fig10.rst",
             category="Study",
         ),
         fig11=report(
-            "reports/figures/study_fig11_passive_vs_anfis.png",
+            f"{OUT}/figures/study_fig11_passive_vs_anfis.png",
             caption="../report/study_fig11.rst",
             category="Study",
         ),
         fig12=report(
-            "reports/figures/study_fig12_tracked_frequency.png",
+            f"{OUT}/figures/study_fig12_tracked_frequency.png",
             caption="../report/study_fig12.rst",
             category="Study",
         ),
         fig13=report(
-            "reports/figures/study_fig13_passive_vs_anfis.png",
+            f"{OUT}/figures/study_fig13_passive_vs_anfis.png",
             caption="../report/study_fig13.rst",
             category="Study",
         ),
         blur=report(
-            "reports/figures/study_blur.png",
+            f"{OUT}/figures/study_blur.png",
             caption="../report/study_blur.rst",
             category="Study",
         ),
         sharp=report(
-            "reports/figures/study_sharp_frames.png",
+            f"{OUT}/figures/study_sharp_frames.png",
             caption="../report/study_sharp_frames.rst",
             category="Study",
         ),
         strategies=report(
-            directory("reports/figures/study_strategies"),
+            directory(f"{OUT}/figures/study_strategies"),
             patterns=["{case}.png"],
             caption="../report/study_strategies.rst",
             category="Study",
         ),
     log:
-        "reports/logs/study.log",
+        f"{OUT}/logs/study.log",
     benchmark:
-        "reports/benchmarks/study.tsv"
+        f"{OUT}/benchmarks/study.tsv"
     conda:
         ENV
     params:
