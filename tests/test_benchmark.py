@@ -46,12 +46,13 @@ def test_split_is_seeded_complete_and_has_both_sets():
 
 def test_scenario_names_and_synthetic_inputs(params):
     specs = scenarios.scenario_specs(typed_config().benchmark)
-    assert len([n for n in specs if n.startswith("heli_")]) == 2 * 3 * 2
-    assert specs["heli_m0.5_r1.1_tail_on"] == {
+    assert len([n for n in specs if n.startswith("heli_")]) == 2 * 3 * 2 * 1  # masses, speeds, tail, mounts
+    assert specs["heli_m0.5_r1.1_tail_on_at_cg"] == {
         "kind": "helicopter",
         "mass_factor": 0.5,
         "speed_ratio": 1.1,
         "tail_rotor": True,
+        "mount": "cg",
     }
     amplitude, h = 1.3e-3, params.time_step
     t, y, z = scenarios.synthetic_input(

@@ -30,13 +30,19 @@ def fake_run(duration=6.0):
     drift = 2e-2 * np.sin(2 * np.pi * 1.0 * t)  # the free fuselage's slow wobble, removed by the high-pass
     disp = {axis: drift + sum(a * np.sin(2 * np.pi * f * t + p) for f, a, p in lines) for axis, lines in LINES.items()}
     return xr.Dataset(
-        {"displacement": (("axis", "time"), np.stack([np.zeros_like(t), disp["y"], disp["z"]]))},
-        coords={"axis": ["x", "y", "z"], "time": t},
+        {"mount_displacement": (("mount", "axis", "time"), np.stack([np.zeros_like(t), disp["y"], disp["z"]])[None])},
+        coords={"mount": ["cg"], "axis": ["x", "y", "z"], "time": t},
     )
 
 
 def cases(reading, scaling, amplitude=1.3e-3):
-    case = {"run": "imbalanced", "amplitude_m": amplitude, "amplitude_reading": reading, "amplitude_scaling": scaling}
+    case = {
+        "run": "imbalanced",
+        "mount": "cg",
+        "amplitude_m": amplitude,
+        "amplitude_reading": reading,
+        "amplitude_scaling": scaling,
+    }
     return excitation.cases_dataset(
         {"imbalanced": fake_run()},
         excitation_options({"a": case}, duration=5.0, highpass_hz=HIGHPASS_HZ, band_hz=BAND_HZ),
@@ -67,7 +73,10 @@ def test_common_scaling_keeps_the_helicopters_ratio(reading):
     ds = cases(reading, "common")
     assert float(ds.scale.sel(axis="y")) == float(ds.scale.sel(axis="z"))
     y, z = (ds.mount_displacement.sel(axis=a).values for a in "yz")
-    raw = {a: excitation.high_pass(fake_run().displacement.sel(axis=a).values, DT, HIGHPASS_HZ)[: y.size] for a in "yz"}
+    raw = {
+        a: excitation.high_pass(fake_run().mount_displacement.sel(mount="cg", axis=a).values, DT, HIGHPASS_HZ)[: y.size]
+        for a in "yz"
+    }
     np.testing.assert_allclose(y / float(ds.scale.sel(axis="y")), raw["y"], rtol=1e-12, atol=1e-18)
     np.testing.assert_allclose(z / float(ds.scale.sel(axis="z")), raw["z"], rtol=1e-12, atol=1e-18)
     # the larger axis (Y here) carries the amplitude; Z keeps its own ratio to it
@@ -84,7 +93,13 @@ def test_common_scaling_keeps_the_helicopters_ratio(reading):
     ("key", "value"), [("amplitude_reading", "rms"), ("amplitude_scaling", "by_y"), ("amplitude_reading", None)]
 )
 def test_bad_reading_or_scaling_is_refused_naming_the_key(key, value):
-    case = {"run": "imbalanced", "amplitude_m": 1e-3, "amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
+    case = {
+        "run": "imbalanced",
+        "mount": "cg",
+        "amplitude_m": 1e-3,
+        "amplitude_reading": "peak",
+        "amplitude_scaling": "per_axis",
+    }
     case = {k: v for k, v in {**case, key: value}.items() if v is not None}
     with pytest.raises(ValueError, match=f"study.cases.a.{key}"):
         excitation.cases_dataset(

@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from conftest import helicopter_of, solver_options
+from scipy.spatial.transform import Rotation
 
 from uavdamp.helicopter import model as H
 
@@ -54,8 +55,8 @@ def test_blade_frequencies_match_closed_form(heli, lag_stiffness):
 
 def test_balanced_rotor_vibrates_a_million_times_less(heli):
     options = solver_options(duration=2.0, step=0.002, output_step=0.004)
-    imbalanced = H.run(heli, options).displacement.sel(axis=["y", "z"])
-    balanced = H.run(heli.balanced(), options).displacement.sel(axis=["y", "z"])
+    imbalanced = H.run(heli, options).mount_displacement.sel(mount="cg", axis=["y", "z"])
+    balanced = H.run(heli.balanced(), options).mount_displacement.sel(mount="cg", axis=["y", "z"])
     ratio = float(np.abs(balanced).max() / np.abs(imbalanced).max())
     assert float(np.abs(imbalanced).max()) > 1e-3  # a real vibration, mm scale
     assert ratio < 1e-6
@@ -126,3 +127,21 @@ def test_config_tail_blade_is_a_uniform_rod(default_config):
     rod = tail["blade_mass_kg"] * tail["blade_length_m"] ** 2 / 12
     assert tail["blade_inertia_kg_m2"][0] == pytest.approx(rod, rel=1e-3)
     assert tail["blade_inertia_kg_m2"][2] == pytest.approx(rod, rel=1e-3)
+
+
+def test_mount_points_move_as_one_rigid_body(heli):
+    """Every mount point's displacement is the centre of mass's plus (R(t) - R(0)) r, R the fuselage's attitude
+    (rigid-body kinematics, exact); to first order in the rotation, theta x r."""
+    heli = replace(heli, mount_points={"cg": (0.0, 0.0, 0.0), "nose_low": (2.0, 0.0, -1.0), "tail": (-6.0, 0.5, 1.72)})
+    ds = H.run(heli, solver_options(duration=1.0, step=0.002, output_step=0.004))
+    rotation = Rotation.from_rotvec(ds.mount_rotation.transpose("time", "axis").values)
+    cg = ds.mount_displacement.sel(mount="cg").transpose("time", "axis").values
+    theta = ds.mount_rotation.transpose("time", "axis").values
+    assert np.abs(theta).max() > 1e-4  # the imbalanced rotor rocks the fuselage
+    for name in ("nose_low", "tail"):
+        r = np.asarray(heli.mount_points[name])
+        got = ds.mount_displacement.sel(mount=name).transpose("time", "axis").values
+        np.testing.assert_allclose(got, cg + rotation.apply(r) - r, rtol=0, atol=1e-12)
+        first_order = cg + np.cross(theta, r)
+        assert np.abs(got - first_order).max() <= np.abs(theta).max() ** 2 * np.linalg.norm(r)  # second-order term
+    assert ds.mount_rotation.attrs["units"] == "rad" and "rotation vector" in ds.mount_rotation.attrs["rotation"]

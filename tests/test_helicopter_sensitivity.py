@@ -73,7 +73,7 @@ def test_short_run_records_every_parameter(heli):
     options = solver_options(duration=1.0, step=0.0025, output_step=0.005)
     ds = S.run(heli, "lag_damping_n_m_s_rad=300", options)
     io.check_metadata(ds)
-    assert ds.displacement.dims == ("run", "axis", "time")
+    assert ds.mount_displacement.dims == ("run", "mount", "axis", "time")
     assert ds.parameter.values.tolist() == ["lag_damping_n_m_s_rad"]
     assert ds.lag_damping_n_m_s_rad.values[0] == 300.0 and ds.hinge_offset_m.values[0] == heli.main_rotor.hinge_offset
     assert ds.fuselage_ixx_scale.values[0] == 1.0

@@ -16,14 +16,17 @@ def fake_run(duration=6.0, dt=0.005):
     t = np.arange(0, duration + dt / 2, dt)
     slow, fast = np.sin(2 * np.pi * 1.0 * t), 0.1 * np.sin(2 * np.pi * 7.0 * t)
     disp = np.stack([np.zeros_like(t), 2e-2 * slow + fast, 1e-2 * slow + fast])
-    return xr.Dataset({"displacement": (("axis", "time"), disp)}, coords={"axis": ["x", "y", "z"], "time": t})
+    return xr.Dataset(
+        {"mount_displacement": (("mount", "axis", "time"), disp[None])},
+        coords={"mount": ["cg"], "axis": ["x", "y", "z"], "time": t},
+    )
 
 
 def test_cases_high_pass_and_scale():
     peak = {"amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
     cases = {
-        "a": {"run": "imbalanced", "amplitude_m": 1.3e-3, **peak},
-        "b": {"run": "imbalanced", "amplitude_m": 0.5e-3, **peak},
+        "a": {"run": "imbalanced", "mount": "cg", "amplitude_m": 1.3e-3, **peak},
+        "b": {"run": "imbalanced", "mount": "cg", "amplitude_m": 0.5e-3, **peak},
     }
     ds = excitation.cases_dataset(
         {"imbalanced": fake_run()}, excitation_options(cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
@@ -47,7 +50,10 @@ def test_cases_high_pass_and_scale():
         excitation.cases_dataset(
             {"imbalanced": fake_run()},
             excitation_options(
-                {"c": {"run": "nope", "amplitude_m": 1e-3, **peak}}, duration=5.0, highpass_hz=3.0, band_hz=(3, 12)
+                {"c": {"run": "nope", "mount": "cg", "amplitude_m": 1e-3, **peak}},
+                duration=5.0,
+                highpass_hz=3.0,
+                band_hz=(3, 12),
             ),
         )
 

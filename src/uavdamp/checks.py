@@ -33,6 +33,7 @@ def check_config(config: Config) -> dict:
     _check_platform(config.platform)
     _check_frequencies(config)
     _check_study(config)
+    _check_mounts(config)
     grid = config.reference_table
     damping, bounds = grid.damping.array(), (config.platform.damping_min, config.platform.damping_max)
     require(
@@ -82,6 +83,15 @@ def _check_frequencies(config: Config) -> None:
         "study.tracking.max_freq_hz",
         f"must stay below the Nyquist frequency of helicopter.solver.output_step_s ({0.5 / output_step:g} Hz)",
     )
+
+
+def _check_mounts(config: Config) -> None:
+    """Every mount a case or a benchmark scenario names is a mount point of the helicopter."""
+    points = list(config.helicopter.mount_points)
+    named = {f"study.cases.{name}.mount": case.mount for name, case in config.study.cases.items()}
+    named |= {f"benchmark.helicopter.mount[{k}]": m for k, m in enumerate(config.benchmark.helicopter.mount)}
+    for key, mount in named.items():
+        require(mount in points, key, f"{mount!r} is not a mount point of helicopter.mount_points_m ({points})")
 
 
 def _check_study(config: Config) -> None:

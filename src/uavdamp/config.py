@@ -13,7 +13,6 @@ AnfisOptions), study (`uavdamp.study`: StudySection), camera (`uavdamp.camera`: 
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, replace
 
 from uavdamp.anfis import AnfisOptions
@@ -24,7 +23,7 @@ from uavdamp.helicopter import HelicopterSection
 from uavdamp.platform import PlatformSection
 from uavdamp.reference_table import ReferenceTableSection
 from uavdamp.scenarios import ScenarioOptions, Split
-from uavdamp.settings import RENAMED, ConfigError, parse, require, setting, view
+from uavdamp.settings import NAME, RENAMED, ConfigError, parse, require, setting, view
 from uavdamp.study import StudyOptions, StudySection
 from uavdamp.tracking import TrackerOptions
 
@@ -40,9 +39,6 @@ class BenchmarkSection(BenchmarkOptions, ScenarioOptions):
     def validate(self) -> None:
         BenchmarkOptions.validate(self)
         ScenarioOptions.validate(self)
-
-
-NAME_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")  # a name that becomes a file or folder name
 
 
 @dataclass(frozen=True)
@@ -62,7 +58,7 @@ class Config:
     def validate(self) -> None:
         parts = self.output_dir.split("/")
         require(
-            all(NAME_PATTERN.fullmatch(p) and p != ".." for p in parts),
+            all(NAME.fullmatch(p) and p != ".." for p in parts),
             "output_dir",
             f"must be a relative folder of names [A-Za-z0-9_.-] (no '..', not absolute), got {self.output_dir!r}",
         )
@@ -122,7 +118,7 @@ def _renames() -> dict[str, str]:
             "hinge_offset": "hinge_offset_m",
             "feather_stiffness": "feather_stiffness_n_m_rad",
         },
-        "helicopter": {"mount_point": "mount_point_m"},
+        "helicopter": {"mount_point": "mount_points_m", "mount_point_m": "mount_points_m"},
         "reference_table": {
             "stiffness": "stiffness_n_m",
             "damping": "damping_n_s_m",

@@ -34,6 +34,7 @@ class Case:
     """One input case of the study (``study.cases.NAME``): a helicopter run, scaled to `amplitude` (m) as read."""
 
     run: str = setting()  # helicopter run: balanced | imbalanced | both_rotors
+    mount: str = setting()  # the mount point (helicopter.mount_points_m) whose motion the case takes
     amplitude: float = setting("amplitude_m")  # m
     amplitude_reading: str = setting()  # peak | dominant
     amplitude_scaling: str = setting()  # per_axis | common
@@ -126,7 +127,10 @@ def case_input(
     if t[keep][-1] < duration - 1e-9:
         raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s) of {where}")
     dt = float(np.mean(np.diff(t)))
-    raw = {axis: high_pass(run.displacement.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
+    if case.mount not in run.mount.values:
+        raise ValueError(f"{where}.mount: {case.mount!r} is not a mount point of the run ({list(run.mount.values)})")
+    motion = run.mount_displacement.sel(mount=case.mount)
+    raw = {axis: high_pass(motion.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
     factors = scale_factors(
         raw,
         dt,

@@ -1,8 +1,8 @@
 """The benchmark's scenarios: helicopter runs over imbalance, rotor speed and tail rotor, and synthetics.
 
 Names come from the config's ``benchmark`` section (`scenario_specs`): every combination of
-helicopter.imbalance_mass_factor x rotor_speed_ratio x tail_rotor ("heli_m0.5_r1.1_tail_on"), and the entries of
-the list ``synthetic`` by their `name`. `split` puts each one, seeded, in the tuning or the evaluation set.
+helicopter.imbalance_mass_factor x rotor_speed_ratio x tail_rotor x mount ("heli_m0.5_r1.1_tail_on_at_cg"), and the
+entries of the list ``synthetic`` by their `name`. `split` puts each one, seeded, in the tuning or the evaluation set.
 `scenario_input` makes one scenario's mount input: a dataset with `mount_displacement` (axis (y, z), time), m.
 
 Helicopter: `uavdamp.helicopter.run` with the imbalanced blade's mass factor, both rotor speeds scaled by the ratio
@@ -41,6 +41,7 @@ class HelicopterScenarios:
     imbalance_mass_factor: tuple[float, ...] = setting()  # 1, mass scale of the imbalanced main blade
     rotor_speed_ratio: tuple[float, ...] = setting()  # 1, both rotor speeds relative to the config's
     tail_rotor: tuple[bool, ...] = setting()  # stopped (false) or running (true)
+    mount: tuple[str, ...] = setting()  # mount points (helicopter.mount_points_m) whose motion is the input
 
     def validate(self) -> None:
         for key in ("imbalance_mass_factor", "rotor_speed_ratio"):
@@ -105,13 +106,15 @@ def scenario_specs(options: ScenarioOptions) -> dict[str, dict]:
     """{name: spec} of every scenario (spec["kind"] in KINDS)."""
     heli = options.helicopter
     specs = {}
-    for mass, ratio, tail in itertools.product(heli.imbalance_mass_factor, heli.rotor_speed_ratio, heli.tail_rotor):
-        name = f"heli_m{float(mass):g}_r{float(ratio):g}_tail_{'on' if tail else 'off'}"
+    grid = itertools.product(heli.imbalance_mass_factor, heli.rotor_speed_ratio, heli.tail_rotor, heli.mount)
+    for mass, ratio, tail, mount in grid:
+        name = f"heli_m{float(mass):g}_r{float(ratio):g}_tail_{'on' if tail else 'off'}_at_{mount}"
         specs[name] = {
             "kind": "helicopter",
             "mass_factor": float(mass),
             "speed_ratio": float(ratio),
             "tail_rotor": tail,
+            "mount": mount,
         }
     for entry in options.synthetic:
         require(entry.name not in specs, f"{_W}synthetic.{entry.name}", "the name is taken by a helicopter scenario")
@@ -153,7 +156,13 @@ def helicopter_input(heli: HelicopterRun, spec: dict, options: ScenarioOptions) 
     )
     heli = heli.with_tail_rotor_speed(tail)
     run = H.run(heli, replace(heli.solver, duration=options.duration_s))
-    case = Case(run="run", amplitude=options.amplitude_m, amplitude_reading="dominant", amplitude_scaling="per_axis")
+    case = Case(
+        run="run",
+        mount=spec["mount"],
+        amplitude=options.amplitude_m,
+        amplitude_reading="dominant",
+        amplitude_scaling="per_axis",
+    )
     t, rows, _ = case_input(
         run, case, "benchmark", duration=options.duration_s, highpass_hz=options.highpass_hz, band_hz=options.band_hz
     )

@@ -17,6 +17,7 @@ import difflib
 import fnmatch
 import inspect
 import math
+import re
 import types
 import typing
 from collections.abc import Mapping
@@ -28,6 +29,9 @@ _MISSING = dataclasses.MISSING
 # old dotted key (fnmatch pattern: * for a name such as a case's) -> its new name (keys renamed to carry their unit);
 # a file using an old key is refused naming the new one
 RENAMED: dict[str, str] = {}
+
+
+NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")  # a name that becomes part of a file name (cases, mounts, ...)
 
 
 class ConfigError(ValueError):

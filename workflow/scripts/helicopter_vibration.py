@@ -10,7 +10,8 @@ heli = parse(helicopter.HelicopterRun, p.helicopter, "helicopter")
 options = parse(helicopter.Spectrum, p.spectrum, "helicopter.spectrum")
 runs = {rotor: io.open_dataset(path) for rotor, path in zip(p.rotors, snakemake.input.runs, strict=True)}
 ds = helicopter.vibration(heli, runs, options)
-workflow.log_info(f"dominant omega, rad/s:\n{ds.dominant_omega.to_pandas()}")
+lines = ds.dominant_omega.to_dataframe()["dominant_omega"].unstack("axis")
+workflow.log_info(f"dominant omega, rad/s:\n{lines}")
 io.save_figure(fuselage_vibration_figure(ds), snakemake.output.figure)
 config = {**p.helicopter, "spectrum": p.spectrum}
 io.write_netcdf(

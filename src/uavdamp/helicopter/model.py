@@ -23,6 +23,7 @@ import exudyn.itemInterface as eii
 import numpy as np
 import xarray as xr
 from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ, TreeLink
+from scipy.spatial.transform import Rotation
 
 from uavdamp.helicopter.params import Helicopter, SolverOptions, TailRotor
 from uavdamp.progress import bar
@@ -194,7 +195,11 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
         )
 
     sensors = {
-        "mount": tree_sensor(FUSELAGE_LINK, heli.mount_point, exu.OutputVariableType.Position),
+        **{
+            f"mount:{name}": tree_sensor(FUSELAGE_LINK, point, exu.OutputVariableType.Position)
+            for name, point in heli.mount_points.items()
+        },
+        "rotation": tree_sensor(FUSELAGE_LINK, (0.0, 0.0, 0.0), exu.OutputVariableType.RotationMatrix),
         "coordinates": mbs.AddSensor(
             eii.SensorNode(
                 nodeNumber=node,
@@ -244,32 +249,70 @@ def linear_momentum(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return first[:, 0], sum(model.link_masses[k] * d[:, 1:4] for k, d in data.items())
 
 
+MOTION_ATTRS = {
+    "frame": "inertial, the fuselage axes at t = 0: x forward, y left, z up; origin at the fuselage centre of mass",
+    "rotation": "rotation vector of R(t) R(0)^T (right hand, about the inertial axes; small angles: roll about x, "
+    "pitch about y, yaw about z); the same at every point of the rigid fuselage",
+}
+
+
+def mount_motion(model: Model, heli: Helicopter) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(time s, displacement (mount, 3, n) m from the start, rotation (3, n) rad) of a solved model (MOTION_ATTRS)."""
+    names = list(heli.mount_points)
+    data = [np.asarray(model.mbs.GetSensorStoredData(model.sensors[f"mount:{n}"])) for n in names]
+    time = data[0][:, 0]
+    displacement = np.stack([(d[:, 1:4] - d[0, 1:4]).T for d in data])
+    matrices = np.asarray(model.mbs.GetSensorStoredData(model.sensors["rotation"]))[:, 1:].reshape(-1, 3, 3)
+    rotation = Rotation.from_matrix(matrices @ matrices[0].T).as_rotvec().T
+    return time, displacement, rotation
+
+
+def motion_dataset(heli: Helicopter, time: np.ndarray, displacement: np.ndarray, rotation: np.ndarray, attrs=None):
+    """The mount-motion dataset: `mount_displacement` (mount, axis, time), m, and `mount_rotation` (axis, time), rad,
+    with the mount points' positions (m, fuselage frame) as coordinates."""
+    names = list(heli.mount_points)
+    return xr.Dataset(
+        {
+            "mount_displacement": (
+                ("mount", "axis", "time"),
+                displacement,
+                {"units": "m", "long_name": "displacement of the platform mount point from its start", **MOTION_ATTRS},
+            ),
+            "mount_rotation": (
+                ("axis", "time"),
+                rotation,
+                {
+                    "units": "rad",
+                    "long_name": "rotation of the fuselage (and every mount) from its start",
+                    **MOTION_ATTRS,
+                },
+            ),
+        },
+        coords={
+            "mount": ("mount", names, {"units": "1", "long_name": "platform mount point"}),
+            "mount_position": (
+                ("mount", "axis"),
+                np.array([heli.mount_points[n] for n in names], dtype=float),
+                {"units": "m", "long_name": "mount point in the fuselage frame (x forward, y left, z up)"},
+            ),
+            "axis": ("axis", list(AXES), {"units": "1", "long_name": "axis (x forward, y left, z up)"}),
+            "time": ("time", time, {"units": "s", "long_name": "simulation time"}),
+        },
+        attrs=attrs or {},
+    )
+
+
 def run(heli: Helicopter, options: SolverOptions, progress: str | None = None) -> xr.Dataset:
-    """Simulate and return the mount point's inertial displacement from its start, m, (axis, time).
+    """Simulate and return the motion of every mount point (`motion_dataset`), from the start.
 
     Attributes record the main rotor angle error after the run (rad) and solver statistics; `progress` as `solve`.
     """
     model = build(heli)
     stats = solve(model, options, progress)
-    mount = model.mbs.GetSensorStoredData(model.sensors["mount"])
+    time, displacement, rotation = mount_motion(model, heli)
     q = model.mbs.GetSensorStoredData(model.sensors["coordinates"])
-    time = mount[:, 0]
     angle_error = float(q[-1, 1 + HUB_LINK] - heli.main_rotor.omega_rad_s * time[-1])
-    ds = xr.Dataset(
-        {
-            "displacement": (
-                ("axis", "time"),
-                (mount[:, 1:4] - mount[0, 1:4]).T,
-                {"units": "m", "long_name": "platform mount point displacement, inertial frame"},
-            )
-        },
-        coords={
-            "axis": ("axis", list(AXES), {"units": "1", "long_name": "axis (x forward, y left, z up)"}),
-            "time": ("time", time, {"units": "s", "long_name": "simulation time"}),
-        },
-        attrs={"rotor_angle_error_rad": angle_error, **stats},
-    )
-    return ds
+    return motion_dataset(heli, time, displacement, rotation, {"rotor_angle_error_rad": angle_error, **stats})
 
 
 def blade_frequencies(heli: Helicopter) -> np.ndarray:

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from uavdamp.settings import key_of, require, setting, unknown_key
+from uavdamp.settings import NAME, key_of, require, setting, unknown_key
 
 _W = "helicopter."
 
@@ -146,16 +146,21 @@ class SolverOptions:
 
 @dataclass(frozen=True)
 class Helicopter:
-    """The vehicle (SI units): fuselage, rotors, the blade imbalance and the platform mount point (m, fuselage
-    frame: x forward, y left, z up, origin at the fuselage centre of mass)."""
+    """The vehicle (SI units): fuselage, rotors, the blade imbalance and the platform mount points by name (m,
+    fuselage frame: x forward, y left, z up, origin at the fuselage centre of mass)."""
 
     fuselage: Fuselage
     main_rotor: MainRotor
     tail_rotor: TailRotor
     imbalance: Imbalance
-    mount_point: tuple[float, ...] = setting("mount_point_m", length=3)
+    mount_points: dict[str, tuple[float, ...]] = setting("mount_points_m")
 
     def validate(self) -> None:
+        require(bool(self.mount_points), _W + "mount_points_m", "needs at least one mount point {name: [x, y, z]}")
+        for name, point in self.mount_points.items():
+            where = f"{_W}mount_points_m.{name}"
+            require(NAME.fullmatch(name) is not None, where, f"a name must match {NAME.pattern} (it names files)")
+            require(len(point) == 3, where, f"needs 3 values (x, y, z m), got {list(point)}")
         n = self.main_rotor.n_blades
         require(
             0 <= self.imbalance.blade < n,

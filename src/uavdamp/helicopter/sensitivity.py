@@ -101,7 +101,8 @@ def parse_run_name(name: str) -> tuple[str, float]:
 def dominant_lines(
     run: xr.Dataset, *, rotor_omega_rad_s: float, min_omega_rad_s: float, zero_padding: int
 ) -> xr.Dataset:
-    """Per axis of a `helicopter.run` result: the dominant angular frequency (rad/s) above `min_omega_rad_s`,
+    """Per axis of a `helicopter.run` result's first mount point: the dominant angular frequency (rad/s) above
+    `min_omega_rad_s`,
     that line's amplitude (m), and the amplitude of the rotor's 1/rev line (m, the largest within one
     frequency bin 2 pi / T of `rotor_omega_rad_s`). Amplitudes: Hann-window single-sided spectrum."""
     time = run.time.values
@@ -110,7 +111,7 @@ def dominant_lines(
     omega, amplitude, rotor = [], [], []
     for axis in H.AXES:
         freq_hz, spec = spectra.amplitude_spectrum(
-            run.displacement.sel(axis=axis).values, dt, zero_padding=zero_padding
+            run.mount_displacement.isel(mount=0).sel(axis=axis).values, dt, zero_padding=zero_padding
         )
         w = 2 * np.pi * freq_hz
         band = np.flatnonzero(w >= min_omega_rad_s)

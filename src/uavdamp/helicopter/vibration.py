@@ -6,18 +6,31 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import spectrum
-from uavdamp.helicopter.model import AXES
 from uavdamp.helicopter.params import Helicopter, Spectrum
+
+
+def _spectra(signals: np.ndarray, dt: float, options: Spectrum) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(freq Hz, amplitude spectra (..., f), dominant angular frequency (...) rad/s) along the last axis."""
+    flat = signals.reshape(-1, signals.shape[-1])
+    spectra, dominant = [], []
+    for signal in flat:
+        freq_hz, spec = spectrum.amplitude_spectrum(signal, dt, zero_padding=options.zero_padding)
+        spectra.append(spec)
+        f_min = options.min_omega_rad_s / (2 * np.pi)
+        dominant.append(
+            2 * np.pi * spectrum.dominant_frequency(signal, dt, min_freq_hz=f_min, zero_padding=options.zero_padding)
+        )
+    shape = signals.shape[:-1]
+    return freq_hz, np.reshape(spectra, (*shape, -1)), np.reshape(dominant, shape)
 
 
 def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], options: Spectrum) -> xr.Dataset:
     """Combine runs keyed by rotor state ("balanced", "imbalanced") with their spectra.
 
-    Adds the amplitude spectrum of each axis (Hann window, `options.zero_padding` times the length) and the
-    dominant angular frequency above `options.min_omega_rad_s`, where the free-floating fuselage's slow
-    rigid-body drift (no aerodynamic restoring force here) is excluded.
+    Adds the amplitude spectrum of each mount's displacement and of the rotation per axis (Hann window,
+    `options.zero_padding` times the length) and the dominant angular frequency above `options.min_omega_rad_s`,
+    where the free-floating fuselage's slow rigid-body drift (no aerodynamic restoring force here) is excluded.
     """
-    min_omega_rad_s, zero_padding = options.min_omega_rad_s, options.zero_padding
     rotors = list(runs)
     ds = xr.concat([runs[r] for r in rotors], dim=xr.DataArray(rotors, dims="rotor"), combine_attrs="override")
     ds.attrs = {}
@@ -26,30 +39,32 @@ def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], options: Spectrum) 
     dt = float(spacing.mean())
     if np.ptp(spacing) > 1e-6 * dt:
         raise ValueError("runs: time samples are not uniformly spaced")
-    amp, dominant = [], np.empty((len(rotors), len(AXES)))
-    for i, r in enumerate(rotors):
-        for j, a in enumerate(AXES):
-            signal = ds.displacement.sel(rotor=r, axis=a).values
-            freq_hz, spec = spectrum.amplitude_spectrum(signal, dt, zero_padding=zero_padding)
-            amp.append(spec)
-            dominant[i, j] = (
-                2
-                * np.pi
-                * spectrum.dominant_frequency(
-                    signal, dt, min_freq_hz=min_omega_rad_s / (2 * np.pi), zero_padding=zero_padding
-                )
-            )
-    amp = np.reshape(amp, (len(rotors), len(AXES), -1))
+    freq_hz, amp, dominant = _spectra(
+        ds.mount_displacement.transpose("rotor", "mount", "axis", "time").values, dt, options
+    )
+    _, rot_amp, rot_dominant = _spectra(ds.mount_rotation.transpose("rotor", "axis", "time").values, dt, options)
     ds = ds.assign_coords(omega=("omega", 2 * np.pi * freq_hz, {"units": "rad s-1", "long_name": "angular frequency"}))
+    above = f"dominant angular frequency above {options.min_omega_rad_s} rad/s"
+    hann = "single-sided amplitude spectrum (Hann window)"
     ds["amplitude_spectrum"] = (
-        ("rotor", "axis", "omega"),
+        ("rotor", "mount", "axis", "omega"),
         amp,
-        {"units": "m", "long_name": "single-sided amplitude spectrum of the displacement (Hann window)"},
+        {"units": "m", "long_name": f"{hann} of the mount displacement"},
+    )
+    ds["rotation_spectrum"] = (
+        ("rotor", "axis", "omega"),
+        rot_amp,
+        {"units": "rad", "long_name": f"{hann} of the rotation"},
     )
     ds["dominant_omega"] = (
-        ("rotor", "axis"),
+        ("rotor", "mount", "axis"),
         dominant,
-        {"units": "rad s-1", "long_name": f"dominant angular frequency above {min_omega_rad_s} rad/s"},
+        {"units": "rad s-1", "long_name": f"{above}, displacement"},
+    )
+    ds["rotation_dominant_omega"] = (
+        ("rotor", "axis"),
+        rot_dominant,
+        {"units": "rad s-1", "long_name": f"{above}, rotation"},
     )
     ds["rotor_angle_error"] = (
         "rotor",

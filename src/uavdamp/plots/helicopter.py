@@ -10,10 +10,12 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 
-def fuselage_vibration_figure(ds: xr.Dataset, window_s: float = 5.0):
-    """Z and Y mount displacement over the first `window_s` seconds (imbalanced: solid blue,
-    balanced: dotted red, as in the paper's Fig. 3) and their amplitude spectra."""
+def fuselage_vibration_figure(ds: xr.Dataset, window_s: float = 5.0, mount: str | None = None):
+    """Z and Y displacement of `mount` (default: the first mount point) over the first `window_s` seconds
+    (imbalanced: solid blue, balanced: dotted red, as in the paper's Fig. 3) and their amplitude spectra."""
+    mount = str(ds.mount.values[0]) if mount is None else mount
     fig, axes = plt.subplots(2, 2, figsize=(11, 6.5), constrained_layout=True)
+    ds = ds.sel(mount=mount).rename(mount_displacement="displacement")
     early = ds.sel(time=slice(0.0, window_s))
     for row, axis in enumerate(("z", "y")):
         ax = axes[row, 0]
