@@ -59,7 +59,8 @@ def test_dominant_lines_of_known_sines():
     z = 1e-3 * np.sin(w_peak * t) + 4e-4 * np.sin(w_rotor * t)
     y = 1.5e-2 * np.sin(w_rotor * t) + 1e-3 * np.sin(5.0 * t)  # the 5 rad/s line is below the search band
     run = xr.Dataset(
-        {"displacement": (("axis", "time"), np.stack([0 * t, y, z]))}, coords={"axis": list(H.AXES), "time": t}
+        {"mount_displacement": (("mount", "axis", "time"), np.stack([0 * t, y, z])[None])},
+        coords={"mount": ["cg"], "axis": list(H.AXES), "time": t},
     )
     ds = S.dominant_lines(run, rotor_omega_rad_s=w_rotor, min_omega_rad_s=20.0, zero_padding=8)
     assert float(ds.dominant_omega.sel(axis="z")) == pytest.approx(w_peak, abs=1e-9)
