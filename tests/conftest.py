@@ -59,7 +59,7 @@ def quick_config() -> dict:
 
 
 # The platform section as in config/config.yaml (a documented choice; the targets are the paper's Table 1).
-PLATFORM = {key: value for key, value in load_config()["platform"].items() if key != "response"}
+PLATFORM = {key: value for key, value in load_config()["platform"].items() if key not in ("response", "stroke")}
 
 
 def platform_config(**changes) -> dict:
@@ -94,7 +94,7 @@ class FunctionLaw:
 def copy_workflow(dest: Path) -> Path:
     """Copy what Snakemake needs (workflow/, config/) into `dest`; return it."""
     dest.mkdir(parents=True, exist_ok=True)
-    for folder in ("workflow", "config"):
+    for folder in ("workflow", "config", "data"):
         shutil.copytree(ROOT / folder, dest / folder, ignore=shutil.ignore_patterns("__pycache__"))
     return dest
 
@@ -132,7 +132,7 @@ def quick_run(tmp_path_factory) -> Path:
 
 def platform_from(section: dict) -> PlatformParams:
     """A platform section (with or without `response`) as the plants take it."""
-    return parse(PlatformParams, {k: v for k, v in section.items() if k != "response"}, "platform")
+    return parse(PlatformParams, {k: v for k, v in section.items() if k not in ("response", "stroke")}, "platform")
 
 
 def solver_options(duration: float, step: float, output_step: float):
@@ -259,3 +259,35 @@ def anfis_options(options: dict | None = None, **changes):
     from uavdamp.anfis import AnfisOptions
 
     return parse(AnfisOptions, {**(ANFIS_OPTIONS if options is None else options), **changes}, "anfis")
+
+
+def sine_yz(freq_y_hz: float, freq_z_hz: float, amplitude: float, duration: float, time_step: float):
+    """(time s, y m, z m) of `uavdamp.excitation.sine_input`'s planar mount motion."""
+    from uavdamp.excitation import sine_input
+
+    time, mount = sine_input(freq_y_hz, freq_z_hz, amplitude, duration, time_step)
+    return time, mount.y, mount.z
+
+
+def planar_cases(name: str, time, y, z):
+    """A one-case input dataset in the shape of `uavdamp.excitation.cases_dataset`: y, z translation (m), no x and
+    no rotation."""
+    translation = np.stack([np.zeros_like(y), y, z])
+    attrs = {"frame": "inertial"}
+    return xr.Dataset(
+        {
+            "mount_displacement": (("case", "mount_axis", "time"), translation[None], {"units": "m", **attrs}),
+            "mount_rotation": (("case", "mount_axis", "time"), np.zeros_like(translation)[None], {"units": "rad"}),
+        },
+        coords={
+            "case": ("case", [name], {"units": "1", "long_name": "case"}),
+            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
+            "mount_axis": ("mount_axis", ["x", "y", "z"], {"units": "1", "long_name": "mount axis"}),
+            "time": ("time", time, {"units": "s", "long_name": "time"}),
+        },
+    )
+
+
+def mount_yz(response):
+    """A plant response's mount translation on the isolator's axes (y, z), m, dims (axis, time)."""
+    return response["mount_displacement"].sel(mount_axis=["y", "z"]).rename(mount_axis="axis")

@@ -81,9 +81,9 @@ def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, o
     seen = []
     original = LinearPlant.run
 
-    def spy(self, time, mount_y, mount_z, **kwargs):
-        seen.append(np.asarray(mount_y).copy())
-        return original(self, time, mount_y, mount_z, **kwargs)
+    def spy(self, time, mount, **kwargs):
+        seen.append(np.asarray(mount.y).copy())
+        return original(self, time, mount, **kwargs)
 
     monkeypatch.setattr(LinearPlant, "run", spy)
     tuning = {n: inputs[n] for n in inputs if split[n] == "tuning"}

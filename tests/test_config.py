@@ -112,6 +112,34 @@ BAD = {
         {"study": {"cases": {"case1": {"amplitude_reading": "rms"}}}},
         "study.cases.case1.amplitude_reading: must be one of ['peak', 'dominant'], got 'rms'",
     ),
+    "study.cases-two-sources": (
+        {"study": {"cases": {"case1": {"flight_log": "quadrotor"}}}},
+        "study.cases.case1: needs exactly one source: run (a helicopter run) or flight_log",
+    ),
+    "study.cases-unknown-log": (
+        {"study": {"cases": {"case1": {"run": None, "mount": None, "flight_log": "octocopter"}}}},
+        "study.cases.case1.flight_log: 'octocopter' is not a name of flight_logs (['quadrotor', 'vtol'])",
+    ),
+    "study.cases-measured-with-amplitude": (
+        {"study": {"cases": {"case1": {"amplitude_scaling": "measured"}}}},
+        "study.cases.case1.amplitude_m: is not used with amplitude_scaling: measured (set it to null), got 0.0013",
+    ),
+    "study.cases-log-with-mount": (
+        {"study": {"cases": {"case1": {"run": None, "flight_log": "quadrotor"}}}},
+        "study.cases.case1.mount: a flight_log case is at its log's mount (flight_logs.NAME)",
+    ),
+    "flight_logs-band": (
+        {"flight_logs": {"quadrotor": {"band_hz": [47.0, 20.0]}}},
+        "flight_logs.quadrotor.band_hz: needs 0 < low < high, got [47.0, 20.0]",
+    ),
+    "benchmark.flight_logs-unknown": (
+        {"benchmark": {"flight_logs": [{"name": "hop", "flight_log": "octo"}]}},
+        "benchmark.flight_logs.hop.flight_log: 'octo' is not a name of flight_logs",
+    ),
+    "platform.stroke": (
+        {"platform": {"stroke": {"weight_support": "magnets"}}},
+        "platform.stroke.weight_support: must be one of ['spring', 'preloaded'], got 'magnets'",
+    ),
     "camera": ({"camera": {"exposure_s": -1.0}}, "camera.exposure_s must be a finite number > 0"),
     "camera.image": ({"camera": {"image_width_px": 0}}, "camera.image_width_px must be a finite number > 0"),
     "benchmark": ({"benchmark": {"damper_lag_s": 0.0}}, "benchmark.damper_lag_s: must be > 0"),
@@ -185,9 +213,12 @@ def test_an_old_key_name_is_refused_naming_its_new_name(path, old, new):
         checks.validate(config)
 
 
-@pytest.mark.parametrize("name", ["config.yaml", "quick.yaml"])
-def test_every_shipped_config_loads_through_the_one_config_layer(name):
-    typed, estimate = checks.validate(load_config(name))
+@pytest.mark.parametrize("names", [[], ["quick.yaml"], ["multirotor.yaml"], ["quick.yaml", "multirotor.yaml"]])
+def test_every_shipped_config_loads_through_the_one_config_layer(names):
+    mapping = load_config()
+    for name in names:
+        mapping = deep_update(mapping, yaml.safe_load((ROOT / "config" / name).read_text()))
+    typed, estimate = checks.validate(mapping)
     assert isinstance(typed, Config) and estimate["cpu_s"] > 0
 
 

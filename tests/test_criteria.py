@@ -155,11 +155,17 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
     assert _planned(work, "config/quick.yaml") == set()
     quick = yaml.safe_load((work / "config" / "quick.yaml").read_text())
     edits = {
-        "criterion": ({"reference_table": {"criterion": "blur"}}, {"reference_table", "anfis", "study", "all"}),
-        "window": ({"reference_table": {"window": "steady"}}, {"reference_table", "anfis", "study", "all"}),
+        "criterion": (
+            {"reference_table": {"criterion": "blur"}},
+            {"reference_table", "reference_table_stroke", "anfis", "study", "all"},
+        ),
+        "window": (
+            {"reference_table": {"window": "steady"}},
+            {"reference_table", "reference_table_stroke", "anfis", "study", "all"},
+        ),
         "camera": (
             {"camera": {"exposure_s": 2.0e-3}},
-            {"reference_table_chunk", "reference_table", "anfis", "study", "all"},
+            {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study", "all"},
         ),
     }
     for name, (edit, expected) in edits.items():

@@ -49,11 +49,17 @@ def test_fuselage_vibration_figure_shows_the_runs_in_mm():
     omega = np.linspace(0, 200, 201)
     ds = xr.Dataset(
         {
-            "displacement": (("rotor", "axis", "time"), disp),
-            "amplitude_spectrum": (("rotor", "axis", "omega"), np.ones((2, 3, omega.size)) * 1e-4),
-            "dominant_omega": (("rotor", "axis"), np.array([[0.0, 44.0, 50.3], [0.0, 44.0, 50.3]])),
+            "mount_displacement": (("rotor", "mount", "axis", "time"), disp[:, None]),
+            "amplitude_spectrum": (("rotor", "mount", "axis", "omega"), np.ones((2, 1, 3, omega.size)) * 1e-4),
+            "dominant_omega": (("rotor", "mount", "axis"), np.array([[[0.0, 44.0, 50.3]], [[0.0, 44.0, 50.3]]])),
         },
-        coords={"rotor": ["imbalanced", "balanced"], "axis": ["x", "y", "z"], "time": t, "omega": omega},
+        coords={
+            "rotor": ["imbalanced", "balanced"],
+            "mount": ["cg"],
+            "axis": ["x", "y", "z"],
+            "time": t,
+            "omega": omega,
+        },
     )
     fig = fuselage_vibration_figure(ds, window_s=5.0)
     try:

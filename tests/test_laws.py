@@ -6,14 +6,13 @@ import math
 
 import numpy as np
 import pytest
-from conftest import load_config, platform_from, study_options_of
+from conftest import load_config, platform_from, sine_yz, study_options_of
 from test_image_quality import CAM, F
 
 from uavdamp import contract, laws, metrics, spectrum, strategies
 from uavdamp import image_quality as iq
 from uavdamp.anfis.estimator import ANFIS
-from uavdamp.contract import DamperBounds, DampingLaw, Observation
-from uavdamp.excitation import sine_input
+from uavdamp.contract import DamperBounds, DampingLaw, MountMotion, Observation
 from uavdamp.platform import ExudynPlant, PlatformParams
 
 BOUNDS = DamperBounds(0.5, 150.0)
@@ -21,15 +20,16 @@ BOUNDS = DamperBounds(0.5, 150.0)
 
 @pytest.fixture(scope="module")
 def params() -> PlatformParams:
-    section = {k: v for k, v in load_config("quick.yaml")["platform"].items() if k != "response"}
+    section = {k: v for k, v in load_config("quick.yaml")["platform"].items() if k not in ("response", "stroke")}
     return platform_from(section)
 
 
 def _seen(t, y, z, t_now, base_velocity=(0.0, 0.0), mount_velocity=(0.0, 0.0)) -> Observation:
     """What the plant would show at t_now: the input up to and including t_now."""
     n = int(np.searchsorted(t, t_now + 1e-9, side="right"))
+    mount = np.column_stack([np.zeros(n), y[:n], z[:n], np.zeros((n, 3))])
     return Observation(
-        t_now, t[:n], y[:n], z[:n], np.asarray(base_velocity, float), np.asarray(mount_velocity, float), np.zeros(2)
+        t_now, t[:n], mount, np.asarray(base_velocity, float), np.asarray(mount_velocity, float), np.zeros(2)
     )
 
 
@@ -157,10 +157,10 @@ def test_anfis_strategy_in_the_plant(params):
     model = Stub(ANFIS(n_mfs=2, epochs=5).fit(X, 1.0 + 2.0 * X[:, 0]).predict, rows=False)
     options = _study_options(tracking={"initial_freq_hz": 7.07})
     plant = ExudynPlant(params)
-    t, y, z = sine_input(7.01, 8.05, 1.3e-3, 3.0, params.time_step)
+    t, y, z = sine_yz(7.01, 8.05, 1.3e-3, 3.0, params.time_step)
     context = strategies.Context(options, params, model, 10.0, None)
     strategy = strategies.build("anfis", context)
-    ds = plant.run(t, y, z, stiffness=10.0, law=strategy.law)
+    ds = plant.run(t, MountMotion.planar(y, z), stiffness=10.0, law=strategy.law)
     applied = ds.damping.values
     changes = ds.time.values[1:][np.diff(applied) != 0]
     period = params.update_period
@@ -220,7 +220,7 @@ def _study_options(**changes):
 def test_skyhook_sign_logic(v_abs, v_rel, on):
     sky = laws.Skyhook(BOUNDS.c_max, BOUNDS.c_min, 0.002)
     mount = np.subtract(v_abs, v_rel)  # v_rel = base - mount
-    c = sky(Observation(0.0, np.zeros(1), np.zeros(1), np.zeros(1), np.asarray(v_abs, float), mount, np.zeros(2)))
+    c = sky(Observation(0.0, np.zeros(1), np.zeros((1, 6)), np.asarray(v_abs, float), mount, np.zeros(2)))
     assert c == (BOUNDS.c_max if on else BOUNDS.c_min)
     assert sky.update_period == 0.002
 
@@ -236,15 +236,15 @@ def test_skyhook_in_the_plant(params):
     # beat its own "on" state: passive c_max. Measured (quick config, 4 ms step): skyhook 0.89 mm,
     # passive c_max 1.44 mm, passive c_min 0.067 mm.
     bounds = DamperBounds.from_params(params)
-    t, y, z = sine_input(7.0, 8.0, 1.3e-3, 3.0, params.time_step)
+    t, y, z = sine_yz(7.0, 8.0, 1.3e-3, 3.0, params.time_step)
     plant = ExudynPlant(params)
     strategy = strategies.build("skyhook", strategies.Context(_study_options(), params, None, 10.0, None))
-    ds = plant.run(t, y, z, stiffness=10.0, law=strategy.law)
+    ds = plant.run(t, MountMotion.planar(y, z), stiffness=10.0, law=strategy.law)
     applied = ds.damping.values
     assert set(np.unique(applied)) == {bounds.c_min, bounds.c_max}
     assert np.count_nonzero(np.diff(applied)) > 10
-    on_max = _camera_criterion(plant.run(t, y, z, stiffness=10.0, law=laws.Constant(bounds.c_max)))
-    on_min = _camera_criterion(plant.run(t, y, z, stiffness=10.0, law=laws.Constant(bounds.c_min)))
+    on_max = _camera_criterion(plant.run(t, MountMotion.planar(y, z), stiffness=10.0, law=laws.Constant(bounds.c_max)))
+    on_min = _camera_criterion(plant.run(t, MountMotion.planar(y, z), stiffness=10.0, law=laws.Constant(bounds.c_min)))
     skyhook = _camera_criterion(ds)
     assert skyhook < 0.8 * on_max
     assert on_min < skyhook  # documented limitation: at these frequencies switching damping on costs isolation
@@ -255,7 +255,8 @@ def test_skyhook_in_the_plant(params):
 
 
 def _obs(t_now: float = 0.0) -> Observation:
-    return Observation(t_now, np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(2), np.zeros(2), np.zeros(2))
+    mount = np.array([[0.0, 1.0, 2.0, 0.0, 0.0, 0.0]])  # y and z translations told apart by their value
+    return Observation(t_now, np.zeros(1), mount, np.zeros(2), np.zeros(2), np.zeros(2))
 
 
 def test_schedule_keeps_its_period_and_refuses_empty_with_its_message():
@@ -281,7 +282,7 @@ def test_anfis_law_needs_both_frequencies_and_accepts_any_positive_stiffness():
     freqs = {"y": math.nan, "z": 8.0}
 
     def track(time, signal, t_now):
-        return freqs["y"] if signal is obs.mount_y else freqs["z"]
+        return freqs["y"] if np.array_equal(signal, obs.mount_y) else freqs["z"]
 
     obs = _obs()
     law = laws.AnfisLaw(_Model(), 0.5, 3.0, track)  # K = 0.5 N/m: small but valid

@@ -27,8 +27,10 @@ def response(t, camera_y, camera_z, *, damping=None, stroke_rate_y=None, stroke_
         "camera_yaw": zeros,
         "camera_pitch": zeros,
         "damping": zeros if damping is None else damping,
-        "mount_displacement": np.stack([zeros, zeros]),
+        "mount_displacement": np.stack([zeros, zeros, zeros]),
+        "mount_rotation": np.stack([zeros, zeros, zeros]),
         "base_displacement": np.stack([zeros, zeros]),
+        "isolator_stroke": np.stack([zeros, zeros]),
         "isolator_velocity": np.stack(
             [zeros if stroke_rate_y is None else stroke_rate_y, zeros if stroke_rate_z is None else stroke_rate_z]
         ),

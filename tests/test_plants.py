@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import xarray as xr
 from conftest import PLATFORM as CONFIG
-from conftest import load_config, platform_from, study_options_of
+from conftest import load_config, planar_cases, platform_from, study_options_of
 
 from uavdamp import laws, study
 from uavdamp.platform import ExudynPlant
@@ -38,20 +37,15 @@ def test_study_on_the_linear_plant_matches_exudyn():
     lines = [(6.07, 0.5e-3), (7.07, 1.0e-3), (7.99, 0.8e-3)]
     y = sum(a * np.sin(2 * np.pi * f * t) for f, a in lines)
     z = sum(a * np.cos(2 * np.pi * f * t + 0.3) for f, a in lines)
-    cases = xr.Dataset(
-        {"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
-        coords={
-            "case": ("case", ["lines"], {"units": "1", "long_name": "case"}),
-            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
-            "time": ("time", t, {"units": "s", "long_name": "time"}),
-        },
-    )
+    cases = planar_cases("lines", t, y, z)
     config = load_config("quick.yaml")
     cfg = {k: v for k, v in config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
     options = study_options_of({**cfg, "strategies": ["passive", "optimal_passive"]})
     out = {}
     for backend in ("linear", "exudyn"):
-        platform = {k: v for k, v in config["platform"].items() if k != "response"} | {"backend": backend}
+        platform = {k: v for k, v in config["platform"].items() if k not in ("response", "stroke")} | {
+            "backend": backend
+        }
         out[backend] = study.run_study(cases, platform_from(platform), None, options)
     assert set(out["linear"].plant.values.ravel()) == {"linear"}
     assert set(out["exudyn"].plant.values.ravel()) == {"exudyn"}

@@ -70,7 +70,7 @@ def test_clipped_demand_never_leaves_the_bounds(demand, lo, width, t_now):
 )
 def test_every_law_clipped_stays_within_the_bounds(values, v_abs, v_rel, lo, width):
     bounds = contract.DamperBounds(lo, lo + width)
-    obs = contract.Observation(0.0, np.zeros(1), np.zeros(1), np.zeros(1), np.asarray(v_abs), np.zeros(2), np.zeros(2))
+    obs = contract.Observation(0.0, np.zeros(1), np.zeros((1, 6)), np.asarray(v_abs), np.zeros(2), np.zeros(2))
     schedule = laws.Schedule(values)
     demands = [schedule(obs) for _ in range(len(values) + 2)]
     assert demands == [*values, values[-1], values[-1]]

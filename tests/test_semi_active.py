@@ -5,13 +5,12 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import load_config, platform_from
+from conftest import load_config, platform_from, sine_yz
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from uavdamp import laws, semi_active
-from uavdamp.contract import DamperBounds, Observation
-from uavdamp.excitation import sine_input
+from uavdamp.contract import DamperBounds, MountMotion, Observation
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.reference_table import TableLookup
@@ -22,7 +21,7 @@ speed = st.floats(-1.0, 1.0, allow_nan=False).filter(lambda v: abs(v) > 1e-3)
 
 @pytest.fixture(scope="module")
 def params() -> PlatformParams:
-    section = {k: v for k, v in load_config("quick.yaml")["platform"].items() if k != "response"}
+    section = {k: v for k, v in load_config("quick.yaml")["platform"].items() if k not in ("response", "stroke")}
     return platform_from(section)
 
 
@@ -36,8 +35,7 @@ def _observation(t_now=0.0, base_velocity=(0.0, 0.0), mount_velocity=(0.0, 0.0))
     return Observation(
         t_now,
         t,
-        np.zeros(1),
-        np.zeros(1),
+        np.zeros((1, 6)),
         np.asarray(base_velocity, float),
         np.asarray(mount_velocity, float),
         np.zeros(2),
@@ -114,8 +112,8 @@ def test_clipped_optimal_asks_only_for_forces_a_damper_can_give(plant, params, s
     law = _Recorder(
         semi_active.ClippedOptimal(plant.model, stiffness, bounds, params.time_step, q_scale=1e-3, r_scale=0.1)
     )
-    time, y, z = sine_input(7.0, 8.0, 1.3e-3, 1.0, params.time_step)
-    response = plant.run(time, y, z, stiffness=stiffness, law=law)
+    time, y, z = sine_yz(7.0, 8.0, 1.3e-3, 1.0, params.time_step)
+    response = plant.run(time, MountMotion.planar(y, z), stiffness=stiffness, law=law)
     desired, v_rel, c = (np.array(x) for x in zip(*law.rows, strict=True))
     power = np.einsum("ij,ij->i", desired, v_rel)
     assert np.all(c >= 0) and np.all(c[power >= 0] == bounds.c_min)  # no energy injection: c_min there
@@ -139,12 +137,11 @@ def test_clipped_optimal_observer_tracks_the_plant(plant, params):
         def __call__(self, obs):
             c = self.law(obs)
             rows = [OUTPUTS.index("camera_y"), OUTPUTS.index("camera_z")]
-            u = np.array([obs.mount_y[-1], obs.mount_z[-1]])
-            estimates.append(self.law.plant.c[rows] @ self.law.z_hat + self.law.plant.du[rows] @ u)
+            estimates.append(self.law.plant.c[rows] @ self.law.z_hat + self.law.plant.du[rows] @ obs.mount[-1])
             return c
 
-    time, y, z = sine_input(7.0, 8.0, 1.3e-3, 1.0, params.time_step)
-    response = plant.run(time, y, z, stiffness=10.0, law=Spy(law))
+    time, y, z = sine_yz(7.0, 8.0, 1.3e-3, 1.0, params.time_step)
+    response = plant.run(time, MountMotion.planar(y, z), stiffness=10.0, law=Spy(law))
     true = response.camera_displacement.values[:, :-1].T
     error = np.abs(np.array(estimates) - true)[time[:-1] > 0.5]
     assert error.max() < 1e-3 * np.abs(true).max()  # measured 1.3e-5
@@ -181,8 +178,8 @@ def test_lag_step_response_is_one_minus_exp(plant, params):
     lagged = semi_active.Lagged(
         laws.Schedule([0.0, 1.0], update_period=period), tau, h, period, DamperBounds(0.0, 200.0)
     )
-    time, y, z = sine_input(7.0, 8.0, 1.3e-3, 0.3, h)
-    applied = plant.run(time, y, z, stiffness=10.0, law=lagged).damping.values[:-1]
+    time, y, z = sine_yz(7.0, 8.0, 1.3e-3, 0.3, h)
+    applied = plant.run(time, MountMotion.planar(y, z), stiffness=10.0, law=lagged).damping.values[:-1]
     t = time[:-1]
     expected = np.where(t < period, 0.0, 1.0 - np.exp(-(t - period) / tau))
     np.testing.assert_allclose(applied, expected, rtol=1e-12, atol=1e-15)

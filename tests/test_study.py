@@ -6,18 +6,28 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
-from conftest import camera_of, excitation_options, planned_rules, platform_from, snakemake, study_options_of
+from conftest import (
+    camera_of,
+    excitation_options,
+    planar_cases,
+    planned_rules,
+    platform_from,
+    sine_yz,
+    snakemake,
+    study_options_of,
+)
 
 from uavdamp import excitation, io, laws, metrics, strategies, study
-from uavdamp.excitation import sine_input
+from uavdamp.contract import MountMotion
 
 
 def fake_run(duration=6.0, dt=0.005):
     t = np.arange(0, duration + dt / 2, dt)
     slow, fast = np.sin(2 * np.pi * 1.0 * t), 0.1 * np.sin(2 * np.pi * 7.0 * t)
     disp = np.stack([np.zeros_like(t), 2e-2 * slow + fast, 1e-2 * slow + fast])
+    rotation = 1e-3 * np.stack([slow, slow, slow])  # rad: the slow wobble, gone after the high-pass
     return xr.Dataset(
-        {"mount_displacement": (("mount", "axis", "time"), disp[None])},
+        {"mount_displacement": (("mount", "axis", "time"), disp[None]), "mount_rotation": (("axis", "time"), rotation)},
         coords={"mount": ["cg"], "axis": ["x", "y", "z"], "time": t},
     )
 
@@ -25,20 +35,32 @@ def fake_run(duration=6.0, dt=0.005):
 def test_cases_high_pass_and_scale():
     peak = {"amplitude_reading": "peak", "amplitude_scaling": "per_axis"}
     cases = {
-        "a": {"run": "imbalanced", "mount": "cg", "amplitude_m": 1.3e-3, **peak},
-        "b": {"run": "imbalanced", "mount": "cg", "amplitude_m": 0.5e-3, **peak},
+        "a": {
+            "run": "imbalanced",
+            "mount": "cg",
+            "motion": "planar",
+            "amplitude_m": 1.3e-3,
+            **peak,
+        },
+        "b": {
+            "run": "imbalanced",
+            "mount": "cg",
+            "motion": "planar",
+            "amplitude_m": 0.5e-3,
+            **peak,
+        },
     }
     ds = excitation.cases_dataset(
         {"imbalanced": fake_run()}, excitation_options(cases, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
     )
-    assert ds.mount_displacement.dims == ("case", "axis", "time")
+    assert ds.mount_displacement.dims == ("case", "mount_axis", "time")
     assert float(ds.time[-1]) == pytest.approx(5.0)
-    peaks = np.abs(ds.mount_displacement).max("time")
+    peaks = np.abs(ds.mount_displacement.sel(mount_axis=["y", "z"])).max("time")
     np.testing.assert_allclose(peaks.sel(case="a"), 1.3e-3, rtol=1e-12)
     np.testing.assert_allclose(peaks.sel(case="b"), 0.5e-3, rtol=1e-12)
     # the 1 Hz drift is gone: what is left is the 7 Hz vibration
     np.testing.assert_allclose(ds.dominant_freq, 7.0, rtol=0.01)
-    y = ds.mount_displacement.sel(case="a", axis="y").values
+    y = ds.mount_displacement.sel(case="a", mount_axis="y").values
     t = ds.time.values
     fit = np.linalg.lstsq(
         np.column_stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t), np.sin(14 * np.pi * t), np.cos(14 * np.pi * t)]),
@@ -50,7 +72,15 @@ def test_cases_high_pass_and_scale():
         excitation.cases_dataset(
             {"imbalanced": fake_run()},
             excitation_options(
-                {"c": {"run": "nope", "mount": "cg", "amplitude_m": 1e-3, **peak}},
+                {
+                    "c": {
+                        "run": "nope",
+                        "mount": "cg",
+                        "motion": "planar",
+                        "amplitude_m": 1e-3,
+                        **peak,
+                    }
+                },
                 duration=5.0,
                 highpass_hz=3.0,
                 band_hz=(3, 12),
@@ -150,18 +180,11 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
     def mean_base_y(response, options):
         return metrics._named(float(response.base_displacement.sel(axis="y").mean()), "m", "mean base y")
 
-    t, y, z = sine_input(7.0, 8.0, 1e-3, 0.6, 0.004)
-    cases = xr.Dataset(
-        {"mount_displacement": (("case", "axis", "time"), np.stack([[y, z]]))},
-        coords={
-            "case": ("case", ["sine"], {"units": "1", "long_name": "case"}),
-            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "axis"}),
-            "time": ("time", t, {"units": "s", "long_name": "time"}),
-        },
-    )
+    t, y, z = sine_yz(7.0, 8.0, 1e-3, 0.6, 0.004)
+    cases = planar_cases("sine", t, y, z)
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
     options = study_options_of({**cfg, "strategies": ["passive", "stiff_damper"], "stiffness_n_m": [50.0]})
-    platform = {k: v for k, v in quick_config["platform"].items() if k != "response"}
+    platform = {k: v for k, v in quick_config["platform"].items() if k not in ("response", "stroke")}
     ds = study.run_study(cases, platform_from(platform), None, options)
     assert list(ds.strategy.values) == ["passive", "stiff_damper"]
     c_max = quick_config["platform"]["isolator"]["damping_max_n_s_m"]
@@ -171,7 +194,9 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
     from uavdamp.platform.plants import Plants
 
     plant = Plants(platform_from(platform)).for_run("isolated", laws.Constant(c_max))
-    base = plant.run(t, y, z, stiffness=50.0, law=laws.Constant(c_max)).base_displacement.sel(axis="y")
+    base = plant.run(t, MountMotion.planar(y, z), stiffness=50.0, law=laws.Constant(c_max)).base_displacement.sel(
+        axis="y"
+    )
     assert float(ds.mean_base_y.sel(case="sine", stiffness=50.0, strategy="stiff_damper")) == float(base.mean())
     assert ds.mean_base_y.attrs["units"] == "m"
 

@@ -26,7 +26,7 @@ from threadpoolctl import threadpool_limits
 from uavdamp import image_quality, strategies
 from uavdamp.camera import CameraModel
 from uavdamp.clairvoyant import OBJECTIVES
-from uavdamp.contract import DamperBounds
+from uavdamp.contract import DamperBounds, MountMotion
 from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.semi_active import Lagged
 from uavdamp.settings import attached, require, setting
@@ -147,7 +147,8 @@ class _Runner:
     def context(self, case: tuple, stiffness: float, tuned: dict) -> strategies.Context:
         def run(strategy, law=None):
             plant = self.rigid if strategy.mount == "rigid" else self.isolated
-            return plant.run(*case, stiffness=stiffness, law=strategy.law if law is None else law)
+            time, mount = case
+            return plant.run(time, mount, stiffness=stiffness, law=strategy.law if law is None else law)
 
         return strategies.Context(
             self.options,
@@ -168,7 +169,8 @@ class _Runner:
 
 
 def _case(ds: xr.Dataset) -> tuple:
-    return ds.time.values, *(ds.mount_displacement.sel(axis=a).values for a in ("y", "z"))
+    """(time s, MountMotion) of a scenario's input dataset."""
+    return ds.time.values, MountMotion(ds.mount_displacement.values, ds.mount_rotation.values)
 
 
 def tune(inputs: dict[str, xr.Dataset], params, options: BenchmarkOptions) -> xr.Dataset:

@@ -86,9 +86,14 @@ def _check_frequencies(config: Config) -> None:
 
 
 def _check_mounts(config: Config) -> None:
-    """Every mount a case or a benchmark scenario names is a mount point of the helicopter."""
-    points = list(config.helicopter.mount_points)
-    named = {f"study.cases.{name}.mount": case.mount for name, case in config.study.cases.items()}
+    """Every mount a case or a benchmark scenario names is a mount point of the helicopter, every flight log a
+    case names is configured."""
+    points, logs = list(config.helicopter.mount_points), sorted(config.flight_logs)
+    used = {f"study.cases.{name}.flight_log": case.flight_log for name, case in config.study.cases.items()}
+    used |= {f"benchmark.flight_logs.{s.name}.flight_log": s.flight_log for s in config.benchmark.flight_logs}
+    for key, log in used.items():
+        require(not log or log in config.flight_logs, key, f"{log!r} is not a name of flight_logs ({logs})")
+    named = {f"study.cases.{name}.mount": case.mount for name, case in config.study.cases.items() if case.run}
     named |= {f"benchmark.helicopter.mount[{k}]": m for k, m in enumerate(config.benchmark.helicopter.mount)}
     for key, mount in named.items():
         require(mount in points, key, f"{mount!r} is not a mount point of helicopter.mount_points_m ({points})")

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uavdamp.excitation import on_grid
 from uavdamp.platform.linear_plant import OUTPUTS
 from uavdamp.platform.statespace import lift, propagate
 
@@ -53,8 +52,7 @@ class _Node:
 def schedule(
     plant,
     time,
-    mount_y,
-    mount_z,
+    mount,
     *,
     stiffness: float,
     candidates,
@@ -64,7 +62,7 @@ def schedule(
 ) -> ClairvoyantSchedule:
     """Beam search for the piecewise-constant C (per `update_period` s) minimising `criterion` on `plant`.
 
-    Input as `LinearPlant.run` (time s, mount_y, mount_z m); stiffness N m-1; candidates N s m-1 within the
+    Input as `LinearPlant.run` (time s, `MountMotion`); stiffness N m-1; candidates N s m-1 within the
     damper bounds. Returns the best of the beam's schedules and the constant ones (never worse than any
     constant candidate on its criterion).
     """
@@ -79,10 +77,8 @@ def schedule(
     per_update = int(round(update_period / h))
     if per_update < 1 or abs(per_update * h - update_period) > 1e-9 * update_period:
         raise ValueError(f"update_period ({update_period} s) must be a positive multiple of time_step ({h} s)")
-    grid, y, z = on_grid(time, mount_y, mount_z, h)
-    u = np.stack([y, z], axis=1)
-    slope = np.diff(u, axis=0) / h
-    rate = np.concatenate([slope[:1], 0.5 * (slope[:-1] + slope[1:]), slope[-1:]])
+    run = plant.prepare(time, mount)
+    grid, u, slope, rate = run["time"], run["u"], run["slope"], run["rate"]
     rows = [OUTPUTS.index(r) for r in OBJECTIVES[criterion]]
     cont, _ = plant.step_map(stiffness, candidates[0])
     out_map = (cont.c[rows], cont.du[rows], cont.dv[rows])  # independent of C

@@ -8,7 +8,8 @@ class (`view` keeps exactly a class's keys), so the config means the same in the
 Sections (module: class): helicopter (`uavdamp.helicopter`: HelicopterSection), platform (`uavdamp.platform`:
 PlatformSection), reference_table (`uavdamp.reference_table`: ReferenceTableSection), anfis (`uavdamp.anfis`:
 AnfisOptions), study (`uavdamp.study`: StudySection), camera (`uavdamp.camera`: CameraModel), budget
-(`uavdamp.budget`: Budget), benchmark (`BenchmarkSection` here: the scenarios', the runs' and the split's views).
+(`uavdamp.budget`: Budget), benchmark (`BenchmarkSection` here: the scenarios', the runs' and the split's views),
+flight_logs (`uavdamp.flight_log`: FlightLogSource per name).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from uavdamp.anfis import AnfisOptions
 from uavdamp.benchmark import BenchmarkOptions
 from uavdamp.budget import Budget
 from uavdamp.camera import CameraModel
+from uavdamp.flight_log import FlightLogSource
 from uavdamp.helicopter import HelicopterSection
 from uavdamp.platform import PlatformSection
 from uavdamp.reference_table import ReferenceTableSection
@@ -54,6 +56,7 @@ class Config:
     camera: CameraModel
     budget: Budget
     benchmark: BenchmarkSection
+    flight_logs: dict[str, FlightLogSource]  # measured flights by name (the flight_log stage; cases name them)
 
     def validate(self) -> None:
         parts = self.output_dir.split("/")

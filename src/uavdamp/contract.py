@@ -1,16 +1,17 @@
 """The contract between a plant, a damping law and a metric: the place a new contributor starts.
 
-    scenario (mount input y(t), z(t), m) --> Plant.run(time, mount_y, mount_z, stiffness=K, law=law)
-                                                 |   every update period: Observation --> law --> demand C
-                                                 |   (the plant clips the demand to the damper bounds: `clip`)
-                                                 v
-                                    response xarray.Dataset (RESPONSE_VARIABLES) --> metrics --> numbers
+    scenario (mount motion: translation x, y, z m and rotation about x, y, z rad) --> Plant.run(time, mount,
+        stiffness=K, law=law)    |   every update period: Observation --> law --> demand C
+                                 |   (the plant clips the demand to the damper bounds: `clip`)
+                                 v
+                response xarray.Dataset (RESPONSE_VARIABLES) --> metrics --> numbers
 
-Plant: anything with ``mount`` ("isolated" or "rigid") and ``run(time, mount_y, mount_z, *, stiffness=None,
-law=None) -> xarray.Dataset``: it runs the prescribed mount displacement (time s from 0, y and z in m) with
-isolator stiffness K (N m-1) under a damping law and returns the response dataset below. The rigid mount has no
-isolator: it ignores K and the law, and its damping is NaN. Plants: `uavdamp.platform.ExudynPlant` (Exudyn time
-stepping, the reference).
+Plant: anything with ``mount`` ("isolated" or "rigid") and ``run(time, mount, *, stiffness=None, law=None) ->
+xarray.Dataset``: it runs the prescribed mount motion (`MountMotion`, time s from 0) with isolator stiffness K
+(N m-1) under a damping law and returns the response dataset below. The isolator frame moves and rotates with
+the mount; it is compliant in its y and z (the paper's isolator) and rigid in x and in rotation. The rigid mount
+has no isolator: it ignores K and the law, and its damping is NaN. Plants: `uavdamp.platform.ExudynPlant` (Exudyn
+time stepping, the reference) and `uavdamp.platform.LinearPlant` (exact for Exudyn's linearisation).
 
 DampingLaw: anything with ``name``, ``update_period`` (s, or None for the platform's configured period),
 ``reset()`` (called by the plant at the start of every run) and ``__call__(observation) -> float``, the damping
@@ -30,19 +31,57 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 import xarray as xr
 
-AXES = ("y", "z")
+AXES = ("y", "z")  # the isolator's compliant axes (and the camera's translation the criteria score)
+MOUNT_AXES = ("x", "y", "z")  # the mount's translation and rotation axes
 MOUNTS = ("isolated", "rigid")
+FRAMES = {
+    "inertial": "inertial frame: x forward, y left, z up (the fuselage axes at t = 0)",
+    "isolator": "isolator frame: moves and rotates with the mount (y, z its compliant axes)",
+}
 
 # name: (dims, units, long_name) of every variable a plant's response carries
 RESPONSE_VARIABLES = {
-    "camera_displacement": (("axis", "time"), "m", "camera displacement (inertial, from rest position)"),
-    "camera_yaw": (("time",), "rad", "camera yaw angle: line-of-sight azimuth (the base only translates)"),
-    "camera_pitch": (("time",), "rad", "camera pitch angle: line-of-sight elevation (the base only translates)"),
+    "camera_displacement": (("axis", "time"), "m", "camera displacement from its start, inertial frame"),
+    "camera_yaw": (("time",), "rad", "line-of-sight azimuth of the camera's optical axis, inertial frame"),
+    "camera_pitch": (("time",), "rad", "line-of-sight elevation (positive down) of the camera's axis, inertial frame"),
     "damping": (("time",), "N s m-1", "isolator damping applied from this time on (NaN: rigid mount)"),
-    "mount_displacement": (("axis", "time"), "m", "prescribed fuselage displacement at the mount"),
-    "base_displacement": (("axis", "time"), "m", "platform base displacement (inertial)"),
-    "isolator_velocity": (("axis", "time"), "m s-1", "isolator stroke rate (base velocity relative to the mount)"),
+    "mount_displacement": (("mount_axis", "time"), "m", "prescribed translation of the mount, inertial frame"),
+    "mount_rotation": (("mount_axis", "time"), "rad", "prescribed rotation vector of the mount, inertial frame"),
+    "base_displacement": (("axis", "time"), "m", "platform base displacement from its start, inertial frame"),
+    "isolator_stroke": (("axis", "time"), "m", "isolator stroke (base relative to the mount), isolator frame"),
+    "isolator_velocity": (("axis", "time"), "m s-1", "isolator stroke rate, isolator frame"),
 }
+
+
+@dataclass(frozen=True)
+class MountMotion:
+    """A prescribed mount motion on its own time samples: translation (3, n) m and rotation (3, n) rad, inertial
+    frame (x forward, y left, z up), the rotation as the rotation vector of R(t) R(0)^T (the helicopter stage's and
+    the flight-log reader's `mount_rotation`)."""
+
+    translation: np.ndarray
+    rotation: np.ndarray
+
+    @classmethod
+    def planar(cls, y, z) -> MountMotion:
+        """A translation in y and z only (m): the paper's inputs."""
+        y, z = np.asarray(y, dtype=float), np.asarray(z, dtype=float)
+        return cls(np.stack([np.zeros_like(y), y, z]), np.zeros((3, y.size)))
+
+    @property
+    def y(self) -> np.ndarray:
+        return self.translation[1]
+
+    @property
+    def z(self) -> np.ndarray:
+        return self.translation[2]
+
+
+def line_of_sight(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(azimuth psi, elevation theta) rad of optical-axis directions `axis` (..., 3) in the inertial frame, the
+    camera's convention (`uavdamp.camera`): axis = (cos psi cos theta, sin psi cos theta, -sin theta)."""
+    axis = np.asarray(axis, dtype=float)
+    return np.arctan2(axis[..., 1], axis[..., 0]), np.arcsin(np.clip(-axis[..., 2], -1.0, 1.0))
 
 
 class SolverFailed(RuntimeError):
@@ -53,18 +92,28 @@ class SolverFailed(RuntimeError):
 class Observation:
     """What a damping law sees at an update time t_now (s): all up to and including t_now.
 
-    time (s), mount_y and mount_z (m): the fuselage input on the solver grid so far (read-only views);
-    base_velocity and mount_velocity (m s-1, (y, z), inertial), stroke (m, base - mount displacement, (y, z)):
-    the state at t_now. `stroke_rate` is base_velocity - mount_velocity.
+    time (s), mount (n, 6): the prescribed mount coordinates on the solver grid so far (read-only views: x, y, z
+    translation m, then the X-Y-Z rotation angles rad of the mount links); base_velocity and mount_velocity
+    (m s-1, (y, z)), stroke (m, (y, z)): the isolator's state at t_now in its own frame (base_velocity =
+    mount_velocity + stroke rate: the base's absolute velocity to first order in the mount's rotation).
     """
 
     t_now: float
     time: np.ndarray
-    mount_y: np.ndarray
-    mount_z: np.ndarray
+    mount: np.ndarray
     base_velocity: np.ndarray
     mount_velocity: np.ndarray
     stroke: np.ndarray
+
+    @property
+    def mount_y(self) -> np.ndarray:
+        """The mount's y translation so far, m."""
+        return self.mount[:, 1]
+
+    @property
+    def mount_z(self) -> np.ndarray:
+        """The mount's z translation so far, m."""
+        return self.mount[:, 2]
 
     @property
     def stroke_rate(self) -> np.ndarray:
@@ -85,7 +134,7 @@ class DampingLaw(Protocol):
 class Plant(Protocol):
     mount: str
 
-    def run(self, time, mount_y, mount_z, *, stiffness: float | None = None, law=None) -> xr.Dataset: ...
+    def run(self, time, mount: MountMotion, *, stiffness: float | None = None, law=None) -> xr.Dataset: ...
 
 
 def is_multiple(period: float, step: float) -> bool:
@@ -172,5 +221,11 @@ def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dic
     coords = {
         "time": ("time", time, {"units": "s", "long_name": "time"}),
         "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
+        "mount_axis": ("mount_axis", list(MOUNT_AXES), {"units": "1", "long_name": "mount axis (x forward, y, z up)"}),
     }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    ds = xr.Dataset(data, coords=coords, attrs={**attrs, **{f"frame_{k}": v for k, v in FRAMES.items()}})
+    for name in ("isolator_stroke", "isolator_velocity"):
+        ds[name].attrs["frame"] = "isolator"
+    for name in ("camera_displacement", "camera_yaw", "camera_pitch", "mount_displacement", "mount_rotation"):
+        ds[name].attrs["frame"] = "inertial"
+    return ds

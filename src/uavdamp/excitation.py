@@ -1,14 +1,17 @@
-"""Platform inputs: mono-frequency sines, resampling onto a solver grid, and the cases from the helicopter.
+"""Platform inputs: mono-frequency sines, resampling onto a solver grid, and the cases from the helicopter or a log.
 
-A case takes the first `duration` seconds of a helicopter run's mount-point displacement (y and z),
-removes the free fuselage's slow rigid-body drift with a zero-phase Butterworth high-pass (there is
-no aerodynamic restoring force in the model, so the fuselage wobbles at about 1 Hz; the rotor's
-vibration lies at 7-8 Hz), and scales it so that a reading of its amplitude equals the case's
-`amplitude` (paper: 1.3 mm). Readings: "peak", the largest |displacement|; "dominant", the amplitude
-of the dominant spectral line in the band (the paper's inputs are mono-frequency sines of a given
-amplitude). Scalings: "per_axis", each axis to the amplitude (the helicopter's Y/Z ratio is lost);
-"common", one factor for both axes, set by the axis with the larger reading (choice: the amplitude
-is the input's, whichever axis carries it), which keeps the helicopter's Y/Z ratio.
+A case takes the first `duration` seconds of a helicopter run's motion at its mount point (or of a measured
+flight's, `uavdamp.read_flight_log`, from the case's window_s start), removes the slow rigid-body drift with a zero-
+phase Butterworth high-pass (in the vacuum runs the free fuselage wobbles at about 1 Hz; the rotor's vibration lies
+at 7-8 Hz; a flight log comes band-passed by its reader and is not filtered again), and scales it so that a reading
+of its y and z amplitude equals the case's `amplitude` (paper: 1.3 mm). `motion: planar` keeps the paper's input,
+the y and z translation only; `full` keeps all of it: the x translation and the rotation too, both scaled by the
+common factor (the one of the larger y/z reading: choice, one factor keeps the rigid body's motion consistent).
+Readings: "peak", the largest |displacement|; "dominant", the amplitude of the dominant spectral line in the band
+(the paper's inputs are mono-frequency sines of a given amplitude). Scalings: "per_axis", each axis to the amplitude
+(the helicopter's Y/Z ratio is lost); "common", one factor for both axes, set by the axis with the larger reading
+(choice: the amplitude is the input's, whichever axis carries it), which keeps the helicopter's Y/Z ratio;
+"measured", no scaling (a flight log's motion as flown).
 """
 
 from __future__ import annotations
@@ -21,30 +24,63 @@ import xarray as xr
 from scipy.signal import butter, sosfiltfilt
 
 from uavdamp import spectrum
+from uavdamp.contract import MountMotion
 from uavdamp.settings import require, setting
 from uavdamp.tracking import TrackerOptions
 
-AXES = ("y", "z")
+AXES = ("y", "z")  # the axes a case scales and reads
+MOUNT_AXES = ("x", "y", "z")
 READINGS = ("peak", "dominant")
-SCALINGS = ("per_axis", "common")
+SCALINGS = ("per_axis", "common", "measured")
+MOTIONS = ("planar", "full")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Case:
-    """One input case of the study (``study.cases.NAME``): a helicopter run, scaled to `amplitude` (m) as read."""
+    """One input case of the study (``study.cases.NAME``): a helicopter run at a mount point (`run`, `mount`) or a
+    measured flight (`flight_log`, a name of the ``flight_logs`` section, from `window_s`), scaled to `amplitude`
+    (m) as read, or taken as measured (amplitude_scaling: measured, no amplitude_m). A key set to null counts as
+    absent (how a profile merged over config.yaml turns a helicopter case into a flight-log one)."""
 
-    run: str = setting()  # helicopter run: balanced | imbalanced | both_rotors
-    mount: str = setting()  # the mount point (helicopter.mount_points_m) whose motion the case takes
-    amplitude: float = setting("amplitude_m")  # m
-    amplitude_reading: str = setting()  # peak | dominant
-    amplitude_scaling: str = setting()  # per_axis | common
+    run: str | None = setting(default=None)  # helicopter run: balanced | imbalanced | both_rotors
+    mount: str | None = setting(default=None)  # the mount point (helicopter.mount_points_m) of a helicopter case
+    flight_log: str | None = setting(default=None)  # a measured flight: a name of the flight_logs section
+    window_s: tuple[float, ...] | None = setting(default=None, length=2)  # s, where in the log the case starts
+    amplitude: float | None = setting("amplitude_m", default=None)  # m
+    amplitude_reading: str | None = setting(default=None)  # peak | dominant (not with measured)
+    amplitude_scaling: str = setting()  # per_axis | common | measured
+    motion: str = setting()  # planar (y, z translation: the paper's) | full (x, y, z translation and rotation)
     description: str = setting(default="")
 
     def validate(self, where: str) -> None:
-        require(self.amplitude > 0, f"{where}.amplitude_m", f"must be > 0, got {self.amplitude}")
-        for key, choices in (("amplitude_reading", READINGS), ("amplitude_scaling", SCALINGS)):
+        one = bool(self.run) != bool(self.flight_log)
+        require(one, where, "needs exactly one source: run (a helicopter run) or flight_log")
+        if self.run:
+            require(bool(self.mount), f"{where}.mount", "a helicopter case needs its mount point")
+            require(self.window_s is None, f"{where}.window_s", "only a flight_log case has a window")
+        else:
+            require(not self.mount, f"{where}.mount", "a flight_log case is at its log's mount (flight_logs.NAME)")
+            if self.window_s is not None:
+                start, end = self.window_s
+                require(0 <= start < end, f"{where}.window_s", f"needs 0 <= start < end, got {list(self.window_s)}")
+        if self.amplitude_scaling != "measured":
+            ok = self.amplitude is not None and self.amplitude > 0
+            rule = f"must be > 0 unless amplitude_scaling is measured, got {self.amplitude}"
+            require(ok, f"{where}.amplitude_m", rule)
+        else:
+            rule = f"is not used with amplitude_scaling: measured (set it to null), got {self.amplitude}"
+            require(self.amplitude is None, f"{where}.amplitude_m", rule)
+        checked = (("amplitude_scaling", SCALINGS), ("motion", MOTIONS))
+        if self.amplitude_scaling != "measured":
+            checked += (("amplitude_reading", READINGS),)
+        for key, choices in checked:
             value = getattr(self, key)
             require(value in choices, f"{where}.{key}", f"must be one of {list(choices)}, got {value!r}")
+
+    @property
+    def source(self) -> str:
+        """Where the case's motion comes from, as the error messages name it."""
+        return f"helicopter run {self.run!r}" if self.run else f"flight log {self.flight_log!r}"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -118,28 +154,57 @@ def scale_factors(
     return {axis: amplitude / value for axis, value in readings.items()}
 
 
+def source_motion(source: xr.Dataset, case: Case, where: str) -> tuple[np.ndarray, xr.DataArray, xr.DataArray]:
+    """(time s from 0, translation (axis, time) m, rotation (axis, time) rad) a case takes from its source: a
+    helicopter run at the case's mount point, or a flight log (`uavdamp.read_flight_log`) inside the case's
+    window_s (s of the log's clock; default: all the log can be trusted, edge_s in from either end)."""
+    if case.run:
+        if case.mount not in source.mount.values:
+            known = list(source.mount.values)
+            raise ValueError(f"{where}.mount: {case.mount!r} is not a mount point of the run ({known})")
+        source = source.sel(mount=case.mount)
+    else:
+        first, last = (float(v) for v in source.attrs["log_window_s"])
+        edge = float(source.attrs["edge_s"])
+        start, end = case.window_s if case.window_s is not None else (first + edge, last - edge)
+        if start < first + edge - 1e-9 or end > last - edge + 1e-9:
+            raise ValueError(
+                f"{where}.window_s: [{start}, {end}] s must lie within [{first + edge:.3f}, {last - edge:.3f}] s: "
+                f"the log's window [{first:.3f}, {last:.3f}] s less edge_s = {edge:.3f} s at either end, where the "
+                "band-limited integration is not to be trusted"
+            )
+        source = source.sel(time=slice(start - first - 1e-9, end - first + 1e-9))
+    t = source.time.values
+    return t - t[0], source.mount_displacement, source.mount_rotation
+
+
 def case_input(
-    run: xr.Dataset, case: Case, where: str, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]
-) -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, tuple]]:
-    """(time s, {axis: input m}, {statistic: per-axis values}) of one case from its helicopter run."""
-    t = run.time.values
-    keep = t <= duration + 1e-9
-    if t[keep][-1] < duration - 1e-9:
-        raise ValueError(f"study.duration_s: {duration} s is longer than the helicopter run ({t[-1]} s) of {where}")
+    source: xr.Dataset, case: Case, where: str, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]
+) -> tuple[np.ndarray, MountMotion, dict[str, tuple]]:
+    """(time s, the scaled mount motion, {statistic: per-axis (y, z) values}) of one case from its source (a
+    helicopter run or a flight log, `source_motion`)."""
+    t, moved, turned = source_motion(source, case, where)
     dt = float(np.mean(np.diff(t)))
-    if case.mount not in run.mount.values:
-        raise ValueError(f"{where}.mount: {case.mount!r} is not a mount point of the run ({list(run.mount.values)})")
-    motion = run.mount_displacement.sel(mount=case.mount)
-    raw = {axis: high_pass(motion.sel(axis=axis).values, dt, highpass_hz)[keep] for axis in AXES}
-    factors = scale_factors(
-        raw,
-        dt,
-        amplitude=case.amplitude,
-        reading=case.amplitude_reading,
-        scaling=case.amplitude_scaling,
-        band_hz=band_hz,
-    )
-    rows = {axis: factors[axis] * raw[axis] for axis in AXES}
+    keep = t < duration + dt - 1e-9  # up to the first sample at or after `duration` (a solver grid reaches it)
+    if t[keep][-1] < duration - 1e-9:
+        raise ValueError(f"study.duration_s: {duration} s is longer than the {case.source} ({t[-1]:.3f} s) of {where}")
+
+    def filtered(values: np.ndarray) -> np.ndarray:  # a flight log comes band-passed by its reader
+        return (high_pass(values, dt, highpass_hz) if case.run else values)[keep]
+
+    raw = {axis: filtered(moved.sel(axis=axis).values) for axis in MOUNT_AXES}
+    scaled = {a: raw[a] for a in AXES}
+    if case.amplitude_scaling == "measured":
+        factors, common = dict.fromkeys(AXES, 1.0), 1.0
+    else:
+        reading = {"amplitude": case.amplitude, "reading": case.amplitude_reading, "band_hz": band_hz}
+        factors = scale_factors(scaled, dt, scaling=case.amplitude_scaling, **reading)
+        common = scale_factors(scaled, dt, scaling="common", **reading)["y"]  # the larger reading's factor
+    full = case.motion == "full"
+    rotation = np.stack([filtered(turned.sel(axis=a).values) for a in MOUNT_AXES])
+    translation = np.stack([common * raw["x"] * full, factors["y"] * raw["y"], factors["z"] * raw["z"]])
+    motion = MountMotion(translation, common * rotation * full)
+    rows = {"y": translation[1], "z": translation[2]}
     stats = {
         "scale": tuple(factors[a] for a in AXES),
         "dominant_freq": tuple(
@@ -147,8 +212,9 @@ def case_input(
         ),
         "dominant_amplitude": tuple(dominant_line_amplitude(rows[a], dt, *band_hz) for a in AXES),
         "spectral_width": tuple(spectral_width_hz(rows[a], dt, *band_hz) for a in AXES),
+        "rotation_scale": common if full else 0.0,
     }
-    return t[keep], rows, stats
+    return t[keep], motion, stats
 
 
 _CASE_STATS = {
@@ -159,48 +225,60 @@ _CASE_STATS = {
 }
 
 
-def cases_dataset(runs: dict[str, xr.Dataset], options: ExcitationOptions) -> xr.Dataset:
-    """The study's inputs: `mount_displacement` (case, axis, time), m, one case per entry of `options.cases`, plus
-    per case and axis the scale applied, the dominant frequency, the dominant line's amplitude and the spectral
-    width in the tracker's band (Hz), where the "dominant" reading looks for its line."""
-    names, time, signals, stats = list(options.cases), None, [], []
+def cases_dataset(runs: dict[str, xr.Dataset], options: ExcitationOptions, logs: dict | None = None) -> xr.Dataset:
+    """The study's inputs: `mount_displacement` (case, mount_axis, time), m, and `mount_rotation` (case, mount_axis,
+    time), rad (inertial frame, `uavdamp.contract.MountMotion`), one case per entry of `options.cases`, from the
+    helicopter `runs` or the flight `logs` (name -> `uavdamp.read_flight_log` dataset), plus per case and axis
+    (y, z) the scale applied, the dominant frequency, the dominant line's amplitude and the spectral width in the
+    tracker's band (Hz), where the "dominant" reading looks for its line. Every case must be sampled alike."""
+    names, time, motions, stats, logs = list(options.cases), None, [], [], logs or {}
     for name in names:
         case, where = options.cases[name], f"study.cases.{name}"
-        if case.run not in runs:
-            raise ValueError(f"{where}.run: unknown helicopter run {case.run!r} (known: {sorted(runs)})")
-        t, rows, found = case_input(
-            runs[case.run],
-            case,
-            where,
-            duration=options.duration_s,
-            highpass_hz=options.highpass_hz,
-            band_hz=options.band_hz,
+        sources, key, chosen = (runs, "run", case.run) if case.run else (logs, "flight_log", case.flight_log)
+        if chosen not in sources:
+            raise ValueError(f"{where}.{key}: unknown {key.replace('_', ' ')} {chosen!r} (known: {sorted(sources)})")
+        band = options.band_hz
+        t, motion, found = case_input(
+            sources[chosen], case, where, duration=options.duration_s, highpass_hz=options.highpass_hz, band_hz=band
         )
-        if time is not None and (time.size != t.size or not np.allclose(time, t)):
-            raise ValueError("helicopter runs of different cases are sampled differently")
+        if time is not None and (time.size != t.size or not np.allclose(time, t, rtol=0, atol=1e-6)):
+            raise ValueError(
+                f"{where}: sampled every {np.mean(np.diff(t)):.6g} s ({case.source}), the cases before it every "
+                f"{np.mean(np.diff(time)):.6g} s: one study's cases share one sampling"
+            )
         time = t
-        signals.append([rows[a] for a in AXES])
+        motions.append(motion)
         stats.append(found)
+    return _cases_variables(options, names, time, motions, stats)
+
+
+def _cases_variables(options: ExcitationOptions, names, time, motions, stats) -> xr.Dataset:
     cases = [options.cases[n] for n in names]
     per_case = {
-        "amplitude": ([c.amplitude for c in cases], "m", "input amplitude as read by amplitude_reading"),
-        "amplitude_reading": (
-            [c.amplitude_reading for c in cases],
-            "1",
-            "reading of the amplitude: peak or dominant line",
+        "amplitude": (
+            [math.nan if c.amplitude is None else c.amplitude for c in cases],
+            "m",
+            "input amplitude as read by amplitude_reading (NaN: as measured)",
         ),
-        "amplitude_scaling": (
-            [c.amplitude_scaling for c in cases],
-            "1",
-            "scaling: per axis or one factor for both axes",
-        ),
+        "amplitude_reading": ([c.amplitude_reading or "" for c in cases], "1", "reading: peak or dominant line"),
+        "amplitude_scaling": ([c.amplitude_scaling for c in cases], "1", "scaling: per axis, one factor or none"),
+        "motion": ([c.motion for c in cases], "1", "planar (y, z translation) or full (translation and rotation)"),
+        "source": ([c.source for c in cases], "1", "helicopter run or flight log the case takes"),
+        "mount": ([c.mount for c in cases], "1", "mount point of the helicopter run (empty: a flight log's mount)"),
+        "rotation_scale": ([s["rotation_scale"] for s in stats], "1", "factor of the x translation and the rotation"),
         "description": ([c.description for c in cases], "1", "case description"),
     }
+    frame = {"frame": "inertial: x forward, y left, z up (the fuselage axes at t = 0)"}
     data = {
         "mount_displacement": (
-            ("case", "axis", "time"),
-            np.asarray(signals),
-            {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"},
+            ("case", "mount_axis", "time"),
+            np.asarray([m.translation for m in motions]),
+            {"units": "m", "long_name": "translation of the platform mount (input)", **frame},
+        ),
+        "mount_rotation": (
+            ("case", "mount_axis", "time"),
+            np.asarray([m.rotation for m in motions]),
+            {"units": "rad", "long_name": "rotation vector of the platform mount (input)", **frame},
         ),
         **{
             k: (("case", "axis"), [s[k] for s in stats], {"units": u, "long_name": n})
@@ -211,32 +289,46 @@ def cases_dataset(runs: dict[str, xr.Dataset], options: ExcitationOptions) -> xr
     coords = {
         "case": ("case", names, {"units": "1", "long_name": "input case"}),
         "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
+        "mount_axis": ("mount_axis", list(MOUNT_AXES), {"units": "1", "long_name": "mount axis (x forward, y, z up)"}),
         "time": ("time", time - time[0], {"units": "s", "long_name": "time"}),
     }
     return xr.Dataset(data, coords=coords, attrs={"highpass_hz": options.highpass_hz, "duration_s": options.duration_s})
 
 
+def case_motion(cases: xr.Dataset, case: str) -> MountMotion:
+    """The mount motion of one case of a `cases_dataset`."""
+    one = cases.sel(case=case)
+    return MountMotion(
+        one.mount_displacement.transpose("mount_axis", "time").values,
+        one.mount_rotation.transpose("mount_axis", "time").values,
+    )
+
+
 def sine_input(freq_y_hz: float, freq_z_hz: float, amplitude: float, duration: float, time_step: float):
-    """Mono-frequency mount input: (time s, y m, z m) with y = A sin(2 pi f_y t), z likewise; A in m."""
+    """Mono-frequency mount input: (time s, MountMotion) with y = A sin(2 pi f_y t), z likewise (A in m), no x
+    translation and no rotation."""
     t = np.arange(int(round(duration / time_step)) + 1) * time_step
-    return t, amplitude * np.sin(2 * np.pi * freq_y_hz * t), amplitude * np.sin(2 * np.pi * freq_z_hz * t)
+    y, z = (amplitude * np.sin(2 * np.pi * f * t) for f in (freq_y_hz, freq_z_hz))
+    return t, MountMotion.planar(y, z)
 
 
-def on_grid(time, mount_y, mount_z, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Validated input resampled (linearly) onto the solver grid 0, h, 2h, ... <= time[-1] (s, m, m)."""
+def on_grid(time, mount: MountMotion, h: float) -> tuple[np.ndarray, MountMotion]:
+    """Validated input resampled (linearly, each component) onto the solver grid 0, h, 2h, ... <= time[-1]."""
     time = np.asarray(time, dtype=float)
-    mount_y = np.asarray(mount_y, dtype=float)
-    mount_z = np.asarray(mount_z, dtype=float)
+    translation = np.asarray(mount.translation, dtype=float)
+    rotation = np.asarray(mount.rotation, dtype=float)
     if time.ndim != 1 or time.size < 2 or not np.all(np.diff(time) > 0):
         raise ValueError("time must be 1-D, increasing, with at least 2 samples")
     if abs(time[0]) > 1e-12:
         raise ValueError(f"time must start at 0 s, got {time[0]}")
-    if mount_y.shape != time.shape or mount_z.shape != time.shape:
-        raise ValueError("mount_y and mount_z must have the shape of time")
-    if not (np.all(np.isfinite(mount_y)) and np.all(np.isfinite(mount_z))):
-        raise ValueError("mount_y and mount_z must be finite")
+    for name, values in (("mount translation", translation), ("mount rotation", rotation)):
+        if values.shape != (3, time.size):
+            raise ValueError(f"{name} must have the shape (3, {time.size}) of (axis, time), got {values.shape}")
+        if not np.all(np.isfinite(values)):
+            raise ValueError(f"{name} must be finite")
     steps = int(math.floor(time[-1] / h + 1e-9))
     if steps < 1:
         raise ValueError(f"time must reach at least one time_step ({h} s)")
     grid = np.arange(steps + 1) * h
-    return grid, np.interp(grid, time, mount_y), np.interp(grid, time, mount_z)
+    resample = np.vectorize(lambda row: np.interp(grid, time, row), signature="(n)->(m)")
+    return grid, MountMotion(resample(translation), resample(rotation))

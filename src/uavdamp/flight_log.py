@@ -34,6 +34,7 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import inertial
+from uavdamp.settings import require, setting
 
 ULOG_MAGIC = b"ULog\x01\x12\x35"
 DATAFLASH_HEAD = b"\xa3\x95"
@@ -42,6 +43,26 @@ FORMAT_NAMES = {"ulog": "PX4 ULog", "dataflash": "ArduPilot DataFlash", "csv": "
 EXTENSIONS = {".ulg": "ulog", ".bin": "dataflash", ".csv": "csv"}
 AXES = ("x", "y", "z")
 RELATIVE_TIMESTAMP_INVALID = 2**31 - 1  # PX4 sensor_combined: no accelerometer sample with this gyro sample
+
+
+@dataclass(frozen=True)
+class FlightLogSource:
+    """One measured flight of the config (``flight_logs.NAME``): what `read_flight_log` is called with."""
+
+    path: str = setting()  # the log file, relative to the working directory (the repository's root)
+    band_hz: tuple[float, ...] = setting(length=2)  # Hz, the integration band
+    window_s: tuple[float, ...] | None = setting(default=None, length=2)  # s of the log's clock; None: all of it
+    imu_to_mount_m: tuple[float, ...] = setting(default=(0.0, 0.0, 0.0), length=3)  # m, mount minus IMU, body axes
+    upsample: int = setting(default=1)  # the output every log interval / upsample (read_flight_log)
+    description: str = setting(default="")
+
+    def validate(self, where: str) -> None:
+        low, high = self.band_hz
+        require(0 < low < high, f"{where}.band_hz", f"needs 0 < low < high, got {list(self.band_hz)}")
+        require(self.upsample >= 1, f"{where}.upsample", f"must be >= 1, got {self.upsample}")
+        if self.window_s is not None:
+            ok = 0 <= self.window_s[0] < self.window_s[1]
+            require(ok, f"{where}.window_s", f"needs 0 <= start < end, got {list(self.window_s)}")
 
 
 class FlightLogError(ValueError):
@@ -281,7 +302,7 @@ def _checked_band(band_hz) -> tuple[float, float]:
     return low, high
 
 
-def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0.0)) -> xr.Dataset:
+def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0.0), upsample: int = 1) -> xr.Dataset:
     """Mount motion from a flight log's IMU (module docstring): `mount_displacement` (axis, time), m, and
     `mount_rotation` (axis, time), rad (small-angle rotation vector: integrated body rates), in band_hz =
     (f_low, f_high), Hz, plus the resampled `acceleration` (specific force, gravity included; m s-2) and
@@ -292,6 +313,10 @@ def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0
     imu_to_mount_m: mount minus IMU position, m, uavdamp body axes; a_mount = a_imu + dw/dt x r + w x (w x r),
     dw/dt the derivative of the rates' interpolating cubic spline (`inertial.resample`). Integrated values
     within `edge_s` (attribute) of either end are not to be trusted (`inertial.band_integrate`).
+    upsample: the output every median interval / upsample s (the displacement and rotation by exact band-limited
+    interpolation, `inertial.band_integrate`; acceleration and rate by the cubic spline), so that a solver's
+    linear interpolation of the motion onto its finer grid does not filter it (at a quarter of the log's rate,
+    linear interpolation of samples at the log's rate keeps only sinc^2(1/4) = 81 % of a line).
     """
     path = Path(path)
     band = _checked_band(band_hz)
@@ -304,21 +329,29 @@ def read_flight_log(path, *, band_hz, window_s=None, imu_to_mount_m=(0.0, 0.0, 0
     keep = _in_window(path, record.time_s, window_s)
     stats = _check_sampling(path, record.time_s[keep], band)
     _check_sampling(path, record.acc_time_s[keep], band)
-    grid = inertial.uniform_grid(record.time_s[keep][0], record.time_s[keep][-1], stats["median_s"])
-    acc_imu = inertial.resample(record.acc_time_s[keep], inertial.frd_to_flu(record.acceleration[:, keep]), grid)
-    rate, rate_dot = inertial.resample(
-        record.time_s[keep], inertial.frd_to_flu(record.angular_rate[:, keep]), grid, derivative=True
-    )
-    acc = inertial.lever_arm(acc_imu, rate, rate_dot, r_m)
-    dt = stats["median_s"]
+    dt, up = stats["median_s"], int(upsample)
+    grid = inertial.uniform_grid(record.time_s[keep][0], record.time_s[keep][-1], dt)
+    fine = grid[0] + np.arange((grid.size - 1) * up + 1) * (dt / up)
+    acc, rate = _at_mount(record, keep, np.concatenate([grid, fine]), r_m)
+    coarse = slice(0, grid.size)
+    attrs = _attributes(path, fmt, record, keep, grid, stats, band, r_m) | {"upsample": up, "time_step_s": dt / up}
     return _dataset(
-        grid - grid[0],
-        acc,
-        rate,
-        inertial.band_integrate(acc, dt, band, 2),
-        inertial.band_integrate(rate, dt, band, 1),
-        _attributes(path, fmt, record, keep, grid, stats, band, r_m),
+        fine - fine[0],
+        acc[:, grid.size :],
+        rate[:, grid.size :],
+        inertial.band_integrate(acc[:, coarse], dt, band, 2, upsample=up),
+        inertial.band_integrate(rate[:, coarse], dt, band, 1, upsample=up),
+        attrs,
     )
+
+
+def _at_mount(record: ImuRecord, keep, times: np.ndarray, r_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Acceleration at the mount and body rates, FLU (3, n), at `times` (s, log clock) from the splines."""
+    acc_imu = inertial.resample(record.acc_time_s[keep], inertial.frd_to_flu(record.acceleration[:, keep]), times)
+    rate, rate_dot = inertial.resample(
+        record.time_s[keep], inertial.frd_to_flu(record.angular_rate[:, keep]), times, derivative=True
+    )
+    return inertial.lever_arm(acc_imu, rate, rate_dot, r_m), rate
 
 
 def _attributes(path: Path, fmt: str, record: ImuRecord, keep, grid, stats, band, r_m) -> dict:

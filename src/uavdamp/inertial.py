@@ -100,11 +100,15 @@ def min_duration_s(band_hz: tuple[float, float]) -> float:
     return 2.0 * edge_s(band_hz) + MIN_INTERIOR_PERIODS / float(band_hz[0])
 
 
-def band_integrate(signal: np.ndarray, dt: float, band_hz: tuple[float, float], order: int) -> np.ndarray:
+def band_integrate(
+    signal: np.ndarray, dt: float, band_hz: tuple[float, float], order: int, upsample: int = 1
+) -> np.ndarray:
     """`signal` (..., n), sampled every `dt` s, integrated `order` times (1: rate -> angle, 2: acceleration
     -> displacement) in the frequency domain inside band_hz = (f_low, f_high), Hz, zero outside: X(f) =
     S(f) / (i 2 pi f)^order. Mean removed, Tukey taper of `taper_s(band_hz)` at each end, one FFT; trust
-    only samples further than `edge_s(band_hz)` from either end (module docstring)."""
+    only samples further than `edge_s(band_hz)` from either end (module docstring). `upsample` > 1 returns
+    the result every dt / upsample s ((n - 1) upsample + 1 samples) by the zero-padded inverse FFT: exact
+    band-limited interpolation, as the result has no content outside the band and tapers to 0 at the ends."""
     low, high = float(band_hz[0]), float(band_hz[1])
     x = np.asarray(signal, dtype=float)
     n = x.shape[-1]
@@ -119,4 +123,7 @@ def band_integrate(signal: np.ndarray, dt: float, band_hz: tuple[float, float], 
     gain = np.zeros(freq.size, dtype=complex)
     inside = (freq >= low) & (freq <= high)
     gain[inside] = (1j * 2.0 * np.pi * freq[inside]) ** (-int(order))
-    return irfft(rfft(x, axis=-1) * gain, n, axis=-1)
+    if int(upsample) < 1:
+        raise ValueError(f"upsample: must be a whole number >= 1, got {upsample}")
+    fine = irfft(rfft(x, axis=-1) * gain, n * int(upsample), axis=-1) * int(upsample)
+    return fine[..., : (n - 1) * int(upsample) + 1]

@@ -8,6 +8,8 @@ concatenates them with xarray. Adding a metric is one function with ``@register(
     std_total          standard deviation of the camera displacement over the run (1/N), per axis, m
     std_settled        the same after settle_s (paper: "both converge after about 1 s"), per axis, m
     energy_dissipated  energy the damper dissipated, sum over axes of the integral of C v_rel^2 dt, J
+    peak_stroke        largest |dynamic isolator stroke| over the run, per axis, m (NaN: rigid mount); the
+                       study adds the static sag and manoeuvre stroke to it (`uavdamp.platform.stroke`)
     image              line of sight and image blur over the run (`uavdamp.image_quality`; needs options.camera):
                        los_* (rad), blur_* (pixels, units "1": UDUNITS has no pixel), sharp_fraction,
                        mtf_nyquist_median, frame_blur (frame, pixels)
@@ -77,6 +79,14 @@ def energy_dissipated(response: xr.Dataset, options) -> xr.DataArray:
     c = response.damping.values
     energy = float(np.sum(c[:-1] * v2[:-1]) * (time[1] - time[0]))
     return _named(energy, "J", "energy dissipated by the damper over the run")
+
+
+@register("peak_stroke")
+def peak_stroke(response: xr.Dataset, options) -> xr.DataArray:
+    peak = np.abs(response.isolator_stroke).max("time")
+    if np.all(np.isnan(response.damping.values)):  # the rigid mount has no isolator
+        peak = peak * np.nan
+    return _named(peak, "m", "largest |dynamic isolator stroke| over the run")
 
 
 @register("image")

@@ -1,17 +1,19 @@
-"""The benchmark's scenarios: helicopter runs over imbalance, rotor speed and tail rotor, and synthetics.
+"""The benchmark's scenarios: helicopter runs over imbalance, rotor speed and tail rotor, measured flights, synthetics.
 
 Names come from the config's ``benchmark`` section (`scenario_specs`): every combination of
 helicopter.imbalance_mass_factor x rotor_speed_ratio x tail_rotor x mount ("heli_m0.5_r1.1_tail_on_at_cg"), and the
-entries of the list ``synthetic`` by their `name`. `split` puts each one, seeded, in the tuning or the evaluation set.
-`scenario_input` makes one scenario's mount input: a dataset with `mount_displacement` (axis (y, z), time), m.
+entries of the lists ``synthetic`` and ``flight_logs`` by their `name`. `split` puts each one, seeded, in the tuning
+or the evaluation set. `scenario_input` makes one scenario's mount input: a dataset with `mount_displacement` and
+`mount_rotation` (axis x, y, z; time), m and rad.
 
 Helicopter: `uavdamp.helicopter.run` with the imbalanced blade's mass factor, both rotor speeds scaled by the ratio
 (main rotor `omega_rad_s`; the tail rotor at its `omega_running_rad_s` when on, stopped when off), then
 `uavdamp.excitation.cases_dataset`: high-passed and each axis's dominant line scaled to amplitude_m (per_axis, as
-the study's case 1). Synthetic kinds (choices): "sweep", a linear chirp of amplitude_m over `freq_hz` (y upwards,
-z downwards); "tones", two sines per axis of amplitude_m each (`freq_y_hz`, `freq_z_hz`); "random", white noise
-from a seeded `numpy.random.Generator` band-passed (4th-order Butterworth, zero phase) to `band_hz`, each axis scaled
-to the RMS of a sine of amplitude_m.
+the study's case 1). Measured flights (``benchmark.flight_logs``, kind "flight_log"): a window of a configured log,
+as measured (`uavdamp.excitation.case_input`). Synthetic kinds (choices): "sweep", a linear chirp of amplitude_m
+over `freq_hz` (y upwards, z downwards); "tones", two sines per axis of amplitude_m each (`freq_y_hz`,
+`freq_z_hz`); "random", white noise from a seeded `numpy.random.Generator` band-passed (4th-order Butterworth, zero
+phase) to `band_hz`, each axis scaled to the RMS of a sine of amplitude_m.
 """
 
 from __future__ import annotations
@@ -24,12 +26,14 @@ import xarray as xr
 from scipy.signal import butter, chirp, sosfiltfilt
 
 from uavdamp import helicopter as H
-from uavdamp.excitation import Case, case_input
+from uavdamp.contract import MountMotion
+from uavdamp.excitation import MOTIONS, Case, case_input
 from uavdamp.helicopter import HelicopterRun
 from uavdamp.settings import require, setting
 
-KINDS = ("helicopter", "sweep", "tones", "random")
-_ATTRS = {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"}
+KINDS = ("helicopter", "sweep", "tones", "random", "flight_log")
+_ATTRS = {"units": "m", "long_name": "translation of the platform mount (input), inertial frame"}
+_ROTATION_ATTRS = {"units": "rad", "long_name": "rotation vector of the platform mount (input), inertial frame"}
 _NEEDS = {"sweep": ("freq_hz",), "tones": ("freq_y_hz", "freq_z_hz"), "random": ("band_hz", "seed")}
 _W = "benchmark."
 
@@ -42,11 +46,15 @@ class HelicopterScenarios:
     rotor_speed_ratio: tuple[float, ...] = setting()  # 1, both rotor speeds relative to the config's
     tail_rotor: tuple[bool, ...] = setting()  # stopped (false) or running (true)
     mount: tuple[str, ...] = setting()  # mount points (helicopter.mount_points_m) whose motion is the input
+    motion: str = setting()  # planar (y, z translation) | full (translation and rotation): `excitation.Case`
 
     def validate(self) -> None:
         for key in ("imbalance_mass_factor", "rotor_speed_ratio"):
             values = getattr(self, key)
             require(bool(values) and min(values) > 0, f"{_W}helicopter.{key}", f"must be > 0, got {list(values)}")
+        require(
+            self.motion in MOTIONS, f"{_W}helicopter.motion", f"must be one of {list(MOTIONS)}, got {self.motion!r}"
+        )
 
 
 @dataclass(frozen=True)
@@ -83,6 +91,27 @@ class Synthetic:
         return {"kind": self.kind, **{k: list(v) if isinstance(v, tuple) else v for k, v in values.items()}}
 
 
+@dataclass(frozen=True)
+class MeasuredScenario:
+    """A measured-flight scenario (an entry of ``benchmark.flight_logs``): a window of a configured flight log
+    (``flight_logs.NAME``), as measured (`uavdamp.excitation.Case` with amplitude_scaling: measured)."""
+
+    name: str = setting()
+    flight_log: str = setting()  # a name of the flight_logs section
+    window_s: tuple[float, ...] | None = setting(default=None, length=2)  # s of the log's clock
+    motion: str = setting(default="full")  # planar | full
+
+    def validate(self, where: str) -> None:
+        ok = self.motion in MOTIONS
+        require(ok, f"{where}.motion", f"must be one of {list(MOTIONS)}, got {self.motion!r}")
+
+    def case(self) -> Case:
+        """The scenario as a study case."""
+        return Case(
+            flight_log=self.flight_log, window_s=self.window_s, amplitude_scaling="measured", motion=self.motion
+        )
+
+
 @dataclass(frozen=True, kw_only=True)
 class ScenarioOptions:
     """The scenario jobs' view of ``benchmark``: run length, amplitude, the helicopter grid and the synthetics."""
@@ -93,12 +122,13 @@ class ScenarioOptions:
     band_hz: tuple[float, ...] = setting(length=2)  # Hz, where the helicopter inputs' dominant line is read
     helicopter: HelicopterScenarios = setting()
     synthetic: tuple[Synthetic, ...] = setting()
+    flight_logs: tuple[MeasuredScenario, ...] = setting(default=())
 
     def validate(self) -> None:
         require(self.duration_s > 0, _W + "duration_s", f"must be > 0, got {self.duration_s}")
         require(self.amplitude_m > 0, _W + "amplitude_m", f"must be > 0, got {self.amplitude_m}")
         require(0 < self.band_hz[0] < self.band_hz[1], _W + "band_hz", f"need 0 < low < high, got {list(self.band_hz)}")
-        names = [s.name for s in self.synthetic]
+        names = [s.name for s in (*self.synthetic, *self.flight_logs)]
         require(len(set(names)) == len(names), _W + "synthetic", f"names must be unique, got {names}")
 
 
@@ -119,7 +149,16 @@ def scenario_specs(options: ScenarioOptions) -> dict[str, dict]:
     for entry in options.synthetic:
         require(entry.name not in specs, f"{_W}synthetic.{entry.name}", "the name is taken by a helicopter scenario")
         specs[entry.name] = entry.spec()
+    for entry in options.flight_logs:
+        require(entry.name not in specs, f"{_W}flight_logs.{entry.name}", "the name is taken by another scenario")
+        window = None if entry.window_s is None else list(entry.window_s)
+        specs[entry.name] = {"kind": "flight_log", "flight_log": entry.flight_log, "window_s": window}
     return specs
+
+
+def flight_log_of(options: ScenarioOptions, name: str) -> str | None:
+    """The flight log (a name of ``flight_logs``) scenario `name` reads, None for the others."""
+    return next((entry.flight_log for entry in options.flight_logs if entry.name == name), None)
 
 
 @dataclass(frozen=True)
@@ -145,8 +184,8 @@ def split(names, tuning_fraction: float, seed: int) -> dict[str, str]:
     return {name: ("tuning" if name in tuning else "evaluation") for name in names}
 
 
-def helicopter_input(heli: HelicopterRun, spec: dict, options: ScenarioOptions) -> tuple[np.ndarray, ...]:
-    """(time s, y m, z m) of one helicopter scenario (module docstring)."""
+def helicopter_input(heli: HelicopterRun, spec: dict, options: ScenarioOptions) -> tuple[np.ndarray, MountMotion]:
+    """(time s, mount motion) of one helicopter scenario (module docstring)."""
     ratio = spec["speed_ratio"]
     tail = heli.tail_rotor.omega_running_rad_s * ratio if spec["tail_rotor"] else 0.0
     heli = replace(
@@ -162,11 +201,12 @@ def helicopter_input(heli: HelicopterRun, spec: dict, options: ScenarioOptions) 
         amplitude=options.amplitude_m,
         amplitude_reading="dominant",
         amplitude_scaling="per_axis",
+        motion=options.helicopter.motion,
     )
-    t, rows, _ = case_input(
+    t, motion, _ = case_input(
         run, case, "benchmark", duration=options.duration_s, highpass_hz=options.highpass_hz, band_hz=options.band_hz
     )
-    return t - t[0], rows["y"], rows["z"]
+    return t - t[0], motion
 
 
 def synthetic_input(spec: dict, *, duration: float, amplitude: float, time_step: float):
@@ -189,20 +229,44 @@ def synthetic_input(spec: dict, *, duration: float, amplitude: float, time_step:
     return t, y, z
 
 
-def scenario_input(name: str, options: ScenarioOptions, heli: HelicopterRun, time_step: float) -> xr.Dataset:
-    """The named scenario's input dataset: mount_displacement (axis, time), m."""
+def measured_input(entry: MeasuredScenario, log: xr.Dataset, options: ScenarioOptions):
+    """(time s from 0, MountMotion) of a measured-flight scenario from its log (`uavdamp.read_flight_log`)."""
+    t, motion, _ = case_input(
+        log,
+        entry.case(),
+        f"{_W}flight_logs.{entry.name}",
+        duration=options.duration_s,
+        highpass_hz=options.highpass_hz,
+        band_hz=options.band_hz,
+    )
+    return t, motion
+
+
+def scenario_input(
+    name: str, options: ScenarioOptions, heli: HelicopterRun, time_step: float, log: xr.Dataset | None = None
+) -> xr.Dataset:
+    """The named scenario's input dataset: mount_displacement and mount_rotation (axis x, y, z; time), m and rad;
+    a flight_log scenario needs its `log` (`uavdamp.read_flight_log`)."""
     specs = scenario_specs(options)
     if name not in specs:
         raise ValueError(f"benchmark scenario: unknown {name!r} (known: {sorted(specs)})")
     spec = specs[name]
     if spec["kind"] == "helicopter":
-        t, y, z = helicopter_input(heli, spec, options)
+        t, motion = helicopter_input(heli, spec, options)
+    elif spec["kind"] == "flight_log":
+        if log is None:
+            raise ValueError(f"benchmark scenario {name!r}: needs the flight log {spec['flight_log']!r}")
+        t, motion = measured_input(next(e for e in options.flight_logs if e.name == name), log, options)
     else:
         t, y, z = synthetic_input(spec, duration=options.duration_s, amplitude=options.amplitude_m, time_step=time_step)
+        motion = MountMotion.planar(y, z)
     return xr.Dataset(
-        {"mount_displacement": (("axis", "time"), np.stack([y, z]), _ATTRS)},
+        {
+            "mount_displacement": (("axis", "time"), motion.translation, _ATTRS),
+            "mount_rotation": (("axis", "time"), motion.rotation, _ROTATION_ATTRS),
+        },
         coords={
-            "axis": ("axis", ["y", "z"], {"units": "1", "long_name": "direction (y lateral, z up)"}),
+            "axis": ("axis", ["x", "y", "z"], {"units": "1", "long_name": "axis (x forward, y left, z up)"}),
             "time": ("time", t, {"units": "s", "long_name": "time"}),
         },
         attrs={

@@ -190,7 +190,10 @@ class ClippedOptimal:
         nx = len(self.model.free)
         self.h_vel = np.zeros((2, ns))
         iso = [self.model.free.index(self.model.lin.link_index[k]) for k in ("iso_y", "iso_z")]
-        self.h_vel[[0, 1], [nx + iso[0], nx + iso[1]]] = 1.0  # x~' of the isolator coordinates: base velocity
+        self.h_vel[[0, 1], [nx + iso[0], nx + iso[1]]] = 1.0  # x~' of the isolator coordinates
+        # the Observation's base velocity is x' + u' (y, z) = x~' - S u' + u' (y, z) on the isolator coordinates
+        self.dv_vel = -self.model.s[iso]
+        self.dv_vel[:, 1:3] += np.eye(2)
         h_meas = np.vstack([self.h_pos, self.h_vel])
         w = self.gamma_f @ self.gamma_f.T + 1e-18 * np.eye(ns)
         v = np.diag([1e-12, 1e-12, 1e-12, 1e-12])
@@ -202,11 +205,13 @@ class ClippedOptimal:
         self.z_hat, self._force, self._c_prev = None, np.zeros(2), self.bounds.c_min
 
     def _estimate(self, obs: Observation) -> np.ndarray:
-        u = np.array([obs.mount_y[-1], obs.mount_z[-1]])
+        u = np.asarray(obs.mount[-1], float)  # the mount links' coordinates (6,)
         if self.z_hat is None:
-            z = self.model.initial_state(u, np.asarray(obs.mount_velocity, float))
+            slope = np.zeros_like(u)
+            slope[1:3] = obs.mount_velocity
+            z = self.model.initial_state(u, slope)
         else:
-            u_prev = np.array([obs.mount_y[-2], obs.mount_z[-2]])
+            u_prev = np.asarray(obs.mount[-2], float)
             slope = (u - u_prev) / (obs.time[-1] - obs.time[-2])
             z = (
                 self.step.phi @ self.z_hat
@@ -214,8 +219,8 @@ class ClippedOptimal:
                 + self.step.gamma_v @ slope
                 + self.gamma_f @ self._force
             )
-        measured = np.concatenate([np.asarray(obs.stroke, float) + u, np.asarray(obs.base_velocity, float)])
-        predicted = np.concatenate([self.h_pos @ z + self.du_pos @ u, self.h_vel @ z])
+        measured = np.concatenate([np.asarray(obs.stroke, float) + u[1:3], np.asarray(obs.base_velocity, float)])
+        predicted = np.concatenate([self.h_pos @ z + self.du_pos @ u, self.h_vel @ z + self.dv_vel @ slope])
         return z + self.kalman @ (measured - predicted)
 
     def __call__(self, observation: Observation) -> float:

@@ -66,7 +66,7 @@ class Context:
     run: Callable
     tuned: dict = field(default_factory=dict)  # benchmark: tuned parameters at this K, {name: value}
     table: object | None = None  # benchmark: the reference table dataset (damping_opt over freq_y, freq_z, stiffness)
-    case_input: tuple | None = None  # benchmark: (time s, mount_y m, mount_z m) of the case, for the clairvoyant
+    case_input: tuple | None = None  # benchmark: (time s, MountMotion) of the case, for the clairvoyant
     linear: object | None = None  # benchmark: the isolated `LinearPlant` (its model for clipped-optimal and beams)
 
     @property
@@ -250,7 +250,7 @@ def clipped_optimal(ctx: Context) -> Strategy:
 def clairvoyant(ctx: Context) -> Strategy:
     from uavdamp import clairvoyant as cv
 
-    plant, (time, y, z) = _needs(ctx, "clairvoyant", "linear"), _needs(ctx, "clairvoyant", "case_input")
+    plant, (time, mount) = _needs(ctx, "clairvoyant", "linear"), _needs(ctx, "clairvoyant", "case_input")
     o = getattr(ctx.options, "clairvoyant", None)
     if o is None:
         raise ValueError("strategy 'clairvoyant' needs options.clairvoyant (the benchmark's)")
@@ -262,8 +262,7 @@ def clairvoyant(ctx: Context) -> Strategy:
     found = cv.schedule(
         plant,
         time,
-        y,
-        z,
+        mount,
         stiffness=ctx.stiffness,
         candidates=candidates,
         update_period=period,

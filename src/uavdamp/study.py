@@ -15,14 +15,16 @@ import xarray as xr
 
 from uavdamp import metrics, strategies, tracking
 from uavdamp.camera import CameraModel
-from uavdamp.excitation import ExcitationOptions, on_grid
+from uavdamp.excitation import ExcitationOptions, case_motion, on_grid
 from uavdamp.platform import PlatformParams
+from uavdamp.platform.params import StrokeBudget
 from uavdamp.platform.plants import Plants
+from uavdamp.platform.stroke import stroke_budget
 from uavdamp.progress import bar
 from uavdamp.settings import attached, require, setting
 from uavdamp.tracking import TrackerOptions
 
-KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping")  # response variables the study keeps
+KEPT = ("camera_displacement", "camera_yaw", "camera_pitch", "damping", "isolator_stroke")  # response variables kept
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -80,21 +82,27 @@ class StudySection(StudyOptions, ExcitationOptions):
 
 
 def run_study(
-    cases: xr.Dataset, params: PlatformParams, model, options: StudyOptions, progress: bool = False
+    cases: xr.Dataset,
+    params: PlatformParams,
+    model,
+    options: StudyOptions,
+    progress: bool = False,
+    budget: StrokeBudget | None = None,
 ) -> xr.Dataset:
-    """Simulate every case x stiffness x strategy; return the comparison dataset (`progress`: a console bar)."""
+    """Simulate every case x stiffness x strategy; return the comparison dataset (`progress`: a console bar; with
+    a stroke `budget`, every run's stroke budget, `uavdamp.platform.stroke`)."""
     plants = Plants(params)
     time = cases.time.values
     per_case = []
     shown = bar(cases.sizes["case"] * len(options.stiffness), "study", "case x K") if progress else None
     for case in cases.case.values:
-        y, z = (cases.mount_displacement.sel(case=case, axis=a).values for a in ("y", "z"))
+        mount = case_motion(cases, case)
         per_stiffness = []
         for stiffness in options.stiffness:
 
-            def run(strategy, stiffness=stiffness, y=y, z=z):
+            def run(strategy, stiffness=stiffness, mount=mount):
                 return plants.for_run(strategy.mount, strategy.law).run(
-                    time, y, z, stiffness=stiffness, law=strategy.law
+                    time, mount, stiffness=stiffness, law=strategy.law
                 )
 
             context = strategies.Context(options, params, model, float(stiffness), run)
@@ -105,7 +113,10 @@ def run_study(
     if shown is not None:
         shown.close()
     ds = _concat(per_case, "case")
-    return _finish(ds.transpose("case", "stiffness", "strategy", ...), cases, options, params)
+    ds = _finish(ds.transpose("case", "stiffness", "strategy", ...), cases, options, params)
+    if budget is not None and "peak_stroke" in ds:
+        ds = ds.merge(stroke_budget(budget, params, ds.stiffness, ds.peak_stroke))
+    return ds
 
 
 def _concat(datasets: list[xr.Dataset], dim: str) -> xr.Dataset:
@@ -131,23 +142,22 @@ def _one_case_and_stiffness(context: strategies.Context, names) -> xr.Dataset:
 def _finish(ds: xr.Dataset, cases: xr.Dataset, options: StudyOptions, params: PlatformParams) -> xr.Dataset:
     """Coordinate metadata, the input on the solver grid and the tracked frequencies."""
     grid_time = ds.time.values
-    ds = ds.drop_vars([c for c in ds.coords if c not in ("case", "stiffness", "strategy", "axis", "time", "frame")])
+    kept = ("case", "stiffness", "strategy", "axis", "mount_axis", "time", "frame")
+    ds = ds.drop_vars([c for c in ds.coords if c not in kept])
     ds = ds.assign_coords(
         case=cases.case,
         axis=cases.axis,
+        mount_axis=cases.mount_axis,
         stiffness=("stiffness", np.asarray(options.stiffness), {"units": "N m-1", "long_name": "isolator stiffness K"}),
         strategy=("strategy", list(options.strategies), {"units": "1", "long_name": "damping strategy"}),
         time=("time", grid_time, {"units": "s", "long_name": "time"}),
     )
-    on_solver_grid = [
-        on_grid(cases.time.values, *cases.mount_displacement.sel(case=c).values, params.time_step)[1:]
-        for c in cases.case.values
-    ]  # the input exactly as the plants resampled it
-    ds["mount_displacement"] = (
-        ("case", "axis", "time"),
-        np.asarray(on_solver_grid),
-        {"units": "m", "long_name": "fuselage displacement at the platform mount (input)"},
-    )
+    on_solver_grid = [on_grid(cases.time.values, case_motion(cases, c), params.time_step)[1] for c in cases.case]
+    for name, values in (
+        ("mount_displacement", [m.translation for m in on_solver_grid]),
+        ("mount_rotation", [m.rotation for m in on_solver_grid]),
+    ):  # the input exactly as the plants resampled it
+        ds[name] = (("case", "mount_axis", "time"), np.asarray(values), dict(cases[name].attrs))
     ds.attrs = options.camera.attrs() if options.camera is not None else {}
     return ds.merge(tracked_frequencies(cases, options, params.update_period))
 
@@ -159,7 +169,7 @@ def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period:
     for case in cases.case.values:
         row = []
         for axis in cases.axis.values:
-            signal = cases.mount_displacement.sel(case=case, axis=axis).values
+            signal = cases.mount_displacement.sel(case=case, mount_axis=axis).values
             update, freq = tracking.track(time, signal, update_period=update_period, options=options.tracking)
             row.append(freq)
         rows.append(row)

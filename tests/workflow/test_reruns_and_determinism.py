@@ -26,7 +26,7 @@ HELICOPTER_ALL = {
     "excitation",
     "study",
 }
-GRID_DOWN = {"reference_table_chunk", "reference_table", "anfis", "study"}
+GRID_DOWN = {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study"}
 
 # name: (path of the edited key, new value or a function of the old one, rules the dry run must plan besides "all")
 EDITS = {
@@ -48,11 +48,17 @@ EDITS = {
         lambda v: v * 1.1,
         {"platform_modes"} | GRID_DOWN,
     ),
+    # the stroke budget: the table's budget and the study, not the grid, the ANFIS or the platform's modes
+    "platform.stroke.max_stroke_m": (
+        ("platform", "stroke", "max_stroke_m"),
+        lambda v: v * 2,
+        {"reference_table_stroke", "study"},
+    ),
     "reference_table.damping_n_s_m": (("reference_table", "damping_n_s_m", "num"), lambda v: v + 1, GRID_DOWN),
     "reference_table.flat_tolerance": (
         ("reference_table", "flat_tolerance"),
         lambda v: v * 2,
-        {"reference_table", "anfis", "study"},
+        {"reference_table", "reference_table_stroke", "anfis", "study"},
     ),
     "anfis.ridge": (("anfis", "ridge"), lambda v: v + 1e-6, {"anfis", "study"}),
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
@@ -62,7 +68,7 @@ EDITS = {
     "camera.exposure_s": (
         ("camera", "exposure_s"),
         lambda v: v * 2,
-        {"reference_table_chunk", "reference_table", "anfis", "study"},
+        {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study"},
     ),
 }
 

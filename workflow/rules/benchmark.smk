@@ -1,7 +1,7 @@
 # The controller benchmark: one job per scenario input, tuning on the tuning set only (one job per stiffness),
 # one job per scenario running every controller, then a gather. Logic in src/uavdamp/{scenarios,benchmark}.py.
 from uavdamp.benchmark import BenchmarkOptions
-from uavdamp.scenarios import ScenarioOptions, scenario_specs
+from uavdamp.scenarios import ScenarioOptions, flight_log_of, scenario_specs
 from uavdamp.scenarios import split as benchmark_split
 
 BENCHMARK = config["benchmark"]
@@ -24,6 +24,12 @@ BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
 
 
 rule benchmark_scenario:
+    input:
+        log=lambda wc: [
+            f"{OUT}/flight_logs/{name}.nc"
+            for name in [flight_log_of(TYPED.benchmark, wc.scenario)]
+            if name
+        ],
     output:
         f"{OUT}/benchmark/scenarios/{{scenario}}.nc",
     log:

@@ -20,7 +20,12 @@ RUNS = ROTORS + [
 ENV = "../envs/uavdamp.yaml"
 
 CAMERA = canonical(config["camera"])
-PLATFORM = canonical(config["platform"])
+PLATFORM = canonical(  # the platform stage: the platform and its response figure (not the stroke budget)
+    {
+        **view(config["platform"], PlatformParams),
+        "response": config["platform"]["response"],
+    }
+)
 PLATFORM_MODEL = canonical(view(config["platform"], PlatformParams))
 # The grid's chunks see what they compute: the grid, its windows and the camera (the blur criterion); not the
 # criterion and window the ANFIS learns (REFERENCE_TARGET), so choosing another reruns the table, not the grid.
@@ -33,6 +38,14 @@ ANFIS = canonical(view(config["anfis"], AnfisOptions))
 STUDY_EXCITATION = canonical(view(config["study"], ExcitationOptions))
 STUDY_RUNS = canonical(view(config["study"], StudyOptions))
 STUDY_FIGURES = canonical(config["study"]["figures"])
+# what the study's cases take their motion from: helicopter runs and measured flights (flight_logs)
+CASE_RUNS = sorted(
+    {c["run"] for c in config["study"]["cases"].values() if c.get("run")}
+)
+CASE_LOGS = sorted(
+    {c["flight_log"] for c in config["study"]["cases"].values() if c.get("flight_log")}
+)
+FLIGHT_LOGS = sorted(config["flight_logs"])
 # A run sees the model and its solver, not the analyses' options, so editing `spectrum`, `campbell` or
 # `sensitivity` reruns only the stage that reads it.
 HELICOPTER_RUN = canonical(view(config["helicopter"], HelicopterRun))

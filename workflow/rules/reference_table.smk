@@ -50,3 +50,21 @@ rule reference_table:
         flat_tolerance=config["reference_table"]["flat_tolerance"],
     script:
         "../scripts/reference_table.py"
+
+
+# the stroke budget of the table's optimum (apart, so that a budget edit reruns this and the study, not the ANFIS)
+rule reference_table_stroke:
+    input:
+        table=rules.reference_table.output.table,
+    output:
+        f"{OUT}/reference_table/stroke.nc",
+    log:
+        f"{OUT}/logs/reference_table/stroke.log",
+    conda:
+        ENV
+    params:
+        platform=PLATFORM_MODEL,
+        stroke=canonical(config["platform"]["stroke"]),
+        amplitude=config["reference_table"]["amplitude_m"],
+    script:
+        "../scripts/reference_table_stroke.py"

@@ -1,6 +1,7 @@
 rule excitation:
     input:
-        runs=expand(f"{OUT}/helicopter/runs/{{rotor}}.nc", rotor=RUNS),
+        runs=expand(f"{OUT}/helicopter/runs/{{rotor}}.nc", rotor=CASE_RUNS),
+        logs=expand(f"{OUT}/flight_logs/{{name}}.nc", name=CASE_LOGS),
     output:
         f"{OUT}/excitation/cases.nc",
     log:
@@ -9,7 +10,8 @@ rule excitation:
         ENV
     params:
         excitation=STUDY_EXCITATION,
-        runs=RUNS,
+        runs=CASE_RUNS,
+        logs=CASE_LOGS,
     script:
         "../scripts/excitation.py"
 
@@ -66,6 +68,7 @@ rule study:
         study=STUDY_RUNS,
         camera=CAMERA,
         platform=PLATFORM_MODEL,
+        stroke=canonical(config["platform"]["stroke"]),
         figures=STUDY_FIGURES,
     script:
         "../scripts/study.py"

@@ -10,7 +10,8 @@ p = snakemake.params
 options = parse(scenarios.ScenarioOptions, p.inputs, "benchmark")
 params = parse(PlatformParams, p.platform, "platform")
 heli = parse(HelicopterRun, p.helicopter, "helicopter")
-ds = scenarios.scenario_input(snakemake.wildcards.scenario, options, heli, params.time_step)
+log = io.open_dataset(snakemake.input.log[0]) if snakemake.input.log else None
+ds = scenarios.scenario_input(snakemake.wildcards.scenario, options, heli, params.time_step, log)
 workflow.log_info(f"{snakemake.wildcards.scenario}: {ds.attrs}")
 config = {"inputs": p.inputs, "helicopter": p.helicopter, "platform": p.platform}
 io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))

@@ -3,26 +3,29 @@
 from uavdamp import io, workflow
 from uavdamp.excitation import sine_input
 from uavdamp.laws import Constant
-from uavdamp.platform import ExudynPlant, PlatformSection, modes_dataset
+from uavdamp.platform import ExudynPlant, PlatformParams, modes_dataset
+from uavdamp.platform.params import Response
 from uavdamp.plots.platform import response_figure
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 cfg = snakemake.params.platform
-params = parse(PlatformSection, cfg, "platform")
-response = params.response
+params = parse(PlatformParams, {k: v for k, v in cfg.items() if k != "response"}, "platform")
+response = parse(Response, cfg["response"], "platform.response")
 modes = modes_dataset(params)
 for f, target in zip(modes.natural_frequency.values, modes.target_frequency.values, strict=True):
     workflow.log_info(f"mode {f:.4f} Hz (target {target:.2f} Hz, {100 * (f / target - 1):+.3f} %)")
 
-time, y, z = sine_input(response.freq_y_hz, response.freq_z_hz, response.amplitude, response.duration, params.time_step)
+time, motion = sine_input(
+    response.freq_y_hz, response.freq_z_hz, response.amplitude, response.duration, params.time_step
+)
 runs = {}
-for mount in ("rigid", "isolated"):
-    plant = ExudynPlant(params, mount=mount)
-    runs[mount] = plant.run(time, y, z, law=Constant(response.damping))
-    peak = abs(runs[mount].camera_displacement).max("time").values
+for kind in ("rigid", "isolated"):
+    plant = ExudynPlant(params, mount=kind)
+    runs[kind] = plant.run(time, motion, law=Constant(response.damping))
+    peak = abs(runs[kind].camera_displacement).max("time").values
     workflow.log_info(
-        f"{mount} mount: build {plant.build_time:.4f} s, solve {plant.solve_time:.3f} s, "
+        f"{kind} mount: build {plant.build_time:.4f} s, solve {plant.solve_time:.3f} s, "
         f"{plant.newton_iterations} Newton iterations, peak camera |y|, |z| = {peak} m"
     )
 label = f"y {response.freq_y_hz:g} Hz, z {response.freq_z_hz:g} Hz, {response.amplitude * 1e3:g} mm"

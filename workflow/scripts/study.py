@@ -6,6 +6,7 @@ from uavdamp import io, study, workflow
 from uavdamp.anfis import DampingModel
 from uavdamp.config import study_options
 from uavdamp.platform import PlatformParams
+from uavdamp.platform.params import StrokeBudget
 from uavdamp.plots import study as plots
 from uavdamp.settings import parse
 
@@ -14,9 +15,10 @@ p = snakemake.params
 cfg, fig = p.study, p.figures
 options = study_options(cfg, p.camera)
 platform = parse(PlatformParams, p.platform, "platform")
+budget = parse(StrokeBudget, p.stroke, "platform.stroke")
 cases = io.open_dataset(snakemake.input.cases)
 model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
-ds = study.run_study(cases, platform, model, options, progress=True)
+ds = study.run_study(cases, platform, model, options, progress=True, budget=budget)
 scalars = [
     v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}
 ]
@@ -33,5 +35,5 @@ folder = Path(snakemake.output.strategies)
 folder.mkdir(parents=True, exist_ok=True)
 for case in ds.case.values:
     io.save_figure(plots.strategies_figure(ds, str(case)), folder / f"{case}.png")
-config = {"study": {**cfg, "camera": p.camera}, "platform": p.platform}
+config = {"study": {**cfg, "camera": p.camera}, "platform": {**p.platform, "stroke": p.stroke}}
 io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=workflow.snakemake_command(snakemake))

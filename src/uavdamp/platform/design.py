@@ -51,8 +51,13 @@ def mass_matrix(s: Structure) -> np.ndarray:
     return m
 
 
-def design_stiffness(s: Structure) -> np.ndarray:
+def design_stiffness(s: Structure, gravity: float = 0.0) -> np.ndarray:
     """Displacement spring (N m-1) and yaw, pitch servo P gains (N m rad-1) meeting the targets.
+
+    With `gravity` (m s-2) the pitch gain also carries the pitch link's pendulum term: its centre of mass z_c
+    above the pitch axis gives the stiffness -m g z_c (the weight's moment about the axis grows with the angle),
+    so the servo's gain is the target stiffness plus m g z_c; the displacement spring and the yaw axis see no
+    gravity stiffness (a constant force, a vertical axis).
 
     Closed form: yaw is uncoupled, k_yaw = omega_mid^2 J_yaw. For the coupled (displacement,
     pitch) pair with mass matrix [[m11, m12], [m12, m22]] and diagonal stiffness (k1, k2),
@@ -77,4 +82,5 @@ def design_stiffness(s: Structure) -> np.ndarray:
         )
     k1 = (total + math.sqrt(disc)) / (2 * m22)
     k2 = prod / k1
-    return np.array([k1, lam_mid * m[1, 1], k2])
+    m_pl, com, _ = pitch_link(s)
+    return np.array([k1, lam_mid * m[1, 1], k2 + m_pl * gravity * com[2]])

@@ -17,9 +17,9 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import contract
-from uavdamp.contract import DamperBounds, Observation, SolverFailed
+from uavdamp.contract import DamperBounds, MountMotion, Observation, SolverFailed, line_of_sight
 from uavdamp.excitation import on_grid
-from uavdamp.platform.model import build
+from uavdamp.platform.model import MOUNT_LINKS, build, mount_coordinates
 from uavdamp.platform.params import PlatformParams
 
 
@@ -28,10 +28,9 @@ class RunState:
     """What one run carries between pre-step calls."""
 
     time: np.ndarray  # s, solver grid
-    y: np.ndarray  # m, mount input on the grid (read-only)
-    z: np.ndarray
-    y_offsets: list  # the same as Python floats: cheaper to hand to Exudyn once per step
-    z_offsets: list
+    input: MountMotion  # the mount motion on the grid
+    u: np.ndarray  # (n, 6) the mount links' coordinates on the grid (read-only): m, then rad
+    offsets: list  # the same as Python floats per mount link: cheaper to hand to Exudyn once per step
     law: object  # the damping law (None for the rigid mount)
     steps_per_update: int
     applied: np.ndarray  # N s m-1, damping applied from each grid point on
@@ -119,8 +118,8 @@ class ExudynPlant:
         run, model = self._run, self.model
         h = self.params.time_step
         n = int(round(t / h)) - 1  # the step runs from grid point n to n + 1
-        mbs.SetObjectParameter(model.constraints[0], "offset", run.y_offsets[n + 1])
-        mbs.SetObjectParameter(model.constraints[1], "offset", run.z_offsets[n + 1])
+        for constraint, offsets in zip(model.constraints, run.offsets, strict=True):
+            mbs.SetObjectParameter(constraint, "offset", offsets[n + 1])
         if run.law is not None and n > 0 and n % run.steps_per_update == 0:
             self._set_damping(self._demand(n))
         run.applied[n] = run.c
@@ -128,7 +127,7 @@ class ExudynPlant:
             q = mbs.systemData.GetODE2Coordinates()
             for j, ki in self._servo_i:
                 run.integral[j] += h * q[model.q0 + j]
-                run.force[j] = -ki * run.integral[j]
+                run.force[j] = model.static_forces[j] - ki * run.integral[j]
             mbs.SetObjectParameter(model.tree, "jointForceVector", run.force)
         return True
 
@@ -143,8 +142,7 @@ class ExudynPlant:
         observation = Observation(
             t_now=float(run.time[n]),
             time=run.time[: n + 1],
-            mount_y=run.y[: n + 1],
-            mount_z=run.z[: n + 1],
+            mount=run.u[: n + 1],
             base_velocity=mount_v + np.array([v[i["iso_y"]], v[i["iso_z"]]]),
             mount_velocity=mount_v,
             stroke=np.array([q[i["iso_y"]], q[i["iso_z"]]]),
@@ -163,10 +161,10 @@ class ExudynPlant:
 
     # ------------------------------------------------------------------ a run
 
-    def run(self, time, mount_y, mount_z, *, stiffness: float | None = None, law=None) -> xr.Dataset:
+    def run(self, time, mount: MountMotion, *, stiffness: float | None = None, law=None) -> xr.Dataset:
         """Solve one run and return the response dataset (`uavdamp.contract.RESPONSE_VARIABLES`).
 
-        time (s, from 0, increasing), mount_y, mount_z (m): prescribed fuselage displacement at the mount,
+        time (s, from 0, increasing), mount: the prescribed mount motion (`uavdamp.contract.MountMotion`),
         interpolated linearly onto the solver grid (step params.time_step, up to time[-1]).
         stiffness: isolator K, N m-1 (default: the configured K). law: a damping law (`uavdamp.contract.DampingLaw`,
         e.g. `uavdamp.laws.Constant`), required for the isolated mount and ignored by the rigid one (its damping
@@ -179,22 +177,22 @@ class ExudynPlant:
         if self.clamped:
             raise ValueError("a clamped platform has no mount input: use eigen()")
         h = self.params.time_step
-        grid, y, z = on_grid(time, mount_y, mount_z, h)
+        grid, motion = on_grid(time, mount, h)
         isolated = self.mount == "isolated"
         stiffness, law, steps_per_update = contract.prepare_run(self, stiffness, law)
-        y.flags.writeable = z.flags.writeable = False  # a law sees views of these
+        u = mount_coordinates(motion)
+        u.flags.writeable = False  # a law sees views of these
         n = self.model.n
         self._run = RunState(
             grid,
-            y,
-            z,
-            y.tolist(),
-            z.tolist(),
+            motion,
+            u,
+            [u[:, k].tolist() for k in range(u.shape[1])],
             law,
             steps_per_update or 1,
             np.full(grid.size, math.nan),
             integral=np.zeros(n),
-            force=np.zeros(n),
+            force=self.model.static_forces.copy(),
         )
         self._initialise(stiffness)
         self._error = None
@@ -213,17 +211,17 @@ class ExudynPlant:
         model, run = self.model, self._run
         mbs, i, h = model.mbs, model.link_index, self.params.time_step
         q, v = np.zeros(model.n), np.zeros(model.n)
-        q[i["mount_y"]], q[i["mount_z"]] = run.y[0], run.z[0]
-        v[i["mount_y"]], v[i["mount_z"]] = (run.y[1] - run.y[0]) / h, (run.z[1] - run.z[0]) / h
+        mount = [i[name] for name in MOUNT_LINKS]
+        q[mount], v[mount] = run.u[0], (run.u[1] - run.u[0]) / h
         if run.law is not None:
             v[i["iso_y"]], v[i["iso_z"]] = -v[i["mount_y"]], -v[i["mount_z"]]
             self._pvec[i["iso_y"]] = self._pvec[i["iso_z"]] = stiffness
             self._set_damping(self._demand(0, q, v))
         mbs.SetObjectParameter(model.tree, "jointPControlVector", self._pvec)
         mbs.SetObjectParameter(model.tree, "jointDControlVector", self._dvec)
-        mbs.SetObjectParameter(model.tree, "jointForceVector", np.zeros(model.n))
-        mbs.SetObjectParameter(model.constraints[0], "offset", float(run.y[0]))
-        mbs.SetObjectParameter(model.constraints[1], "offset", float(run.z[0]))
+        mbs.SetObjectParameter(model.tree, "jointForceVector", model.static_forces)
+        for constraint, offsets in zip(model.constraints, run.offsets, strict=True):
+            mbs.SetObjectParameter(constraint, "offset", offsets[0])
         ode2, ode2_t = np.zeros(mbs.systemData.ODE2Size()), np.zeros(mbs.systemData.ODE2Size())
         ode2[model.q0 : model.q0 + model.n] = q
         ode2_t[model.q0 : model.q0 + model.n] = v
@@ -236,30 +234,33 @@ class ExudynPlant:
         model, run = self.model, self._run
         mbs, i, grid = model.mbs, model.link_index, run.time
         camera = np.asarray(mbs.GetSensorStoredData(model.sensors["camera"]))
-        q = np.asarray(mbs.GetSensorStoredData(model.sensors["coordinates"]))[:, 1:]
-        rates = np.asarray(mbs.GetSensorStoredData(model.sensors["rates"]))[:, 1:]
         if not success or camera.shape[0] != grid.size:
             raise SolverFailed(
                 f"solver stopped at t = {self._solver.it.currentTime:.6g} s of {grid[-1]:.6g} s "
                 f"({camera.shape[0]} of {grid.size} samples)"
             )
+        q = np.asarray(mbs.GetSensorStoredData(model.sensors["coordinates"]))[:, 1:]
+        rates = np.asarray(mbs.GetSensorStoredData(model.sensors["rates"]))[:, 1:]
+        rotation = np.asarray(mbs.GetSensorStoredData(model.sensors["camera_rotation"]))[:, 1:].reshape(-1, 3, 3)
+        base = np.asarray(mbs.GetSensorStoredData(model.sensors["base"]))[:, 1:]
         applied = run.applied
         applied[-1] = run.c
-        mount = np.stack([q[:, i["mount_y"]], q[:, i["mount_z"]]])  # as solved: the constraints' result
-        base, stroke_rate = mount.copy(), np.zeros((2, grid.size))
+        stroke, stroke_rate = np.zeros((2, grid.size)), np.zeros((2, grid.size))
         if run.law is not None:
-            base += np.stack([q[:, i["iso_y"]], q[:, i["iso_z"]]])
+            stroke = np.stack([q[:, i["iso_y"]], q[:, i["iso_z"]]])
             stroke_rate = np.stack([rates[:, i["iso_y"]], rates[:, i["iso_z"]]])
         else:
             applied[:] = math.nan
-        angle = {name: (q[:, i[name]] if name in i else np.zeros(grid.size)) for name in ("yaw", "pitch")}
+        yaw, pitch = line_of_sight(rotation[:, :, 0])
         values = {
             "camera_displacement": (camera[:, 1:] - model.camera_local)[:, 1:3].T,  # (axis, time), y and z
-            "camera_yaw": angle["yaw"],
-            "camera_pitch": angle["pitch"],
+            "camera_yaw": yaw,
+            "camera_pitch": pitch,
             "damping": applied,
-            "mount_displacement": mount,
-            "base_displacement": base,
+            "mount_displacement": run.input.translation,
+            "mount_rotation": run.input.rotation,
+            "base_displacement": base[:, 1:3].T,
+            "isolator_stroke": stroke,
             "isolator_velocity": stroke_rate,
         }
         attrs = {

@@ -1,19 +1,22 @@
 """The platform as an exact linear plant, built from the Exudyn model's linearisation.
 
-`linearise(model)` asks Exudyn (`ComputeLinearizedSystem`, at rest, zero joint forces) for M, K, D of the
-kinematic tree twice: isolator K = C = 0 and K = C = 1. Every joint force of the tree is linear in the
-joint P and D vectors, so K(k) = K0 + k Kc and D(c) = D0 + c Dc for every isolator (k, c): one
-linearisation serves the whole grid. The camera point's position (Exudyn's kinematic-tree sensor) is
-differentiated by central differences over the coordinates for the output map.
+`linearise(model)` asks Exudyn (`ComputeLinearizedSystem`, at the static equilibrium q = 0 under gravity) for
+M, K, D of the kinematic tree twice: isolator K = C = 0 and K = C = 1. Every joint force of the tree is linear in
+the joint P and D vectors, so K(k) = K0 + k Kc and D(c) = D0 + c Dc for every isolator (k, c): one
+linearisation serves the whole grid (K holds gravity's stiffness: the pitch link's pendulum term and the
+weight's turn with the mount). The output map is the central-difference Jacobian of Exudyn's own sensors: the
+camera point, the base point and the camera's optical axis (its inertial line of sight).
 
-Coordinates (choice): the tree's coordinates q = (mount u, free x) are relative, so the mount enters
+Coordinates (choice): the tree's coordinates q = (mount u: x, y, z, rx, ry, rz; free x) are relative, so the
+mount enters
 the free equations through its acceleration (M_xu u''), which a sampled, piecewise-linear input does not
 have. With x~ = x + S u, S = M_xx^-1 M_xu, the u'' term vanishes:
     M_xx x~'' + D_xx x~' + K_xx x~ = (K_xx S - K_xu) u + (D_xx S - D_xu) u' - F Ki I,   I' = E x.
-For the isolated mount S is the unit vector of the isolator coordinates (the mount links are massless),
-so x~ holds the base's absolute displacement: the mount enters through the isolator spring and damper
-only (displacement and rate), which a first-order hold of the sampled input gives exactly. The same
-formula serves the rigid mount (S then spreads over the platform coordinates). The servos' integral
+For the isolated mount's y and z translation S is the unit vector of the isolator coordinates (the mount links
+are massless), so those inputs enter through the isolator spring and damper only; the mount's x translation and
+rotation, which the isolator does not isolate, spread over the platform coordinates (as every input of the rigid
+mount does). Either way the input enters through K and D, which a first-order hold of the sampled input gives
+exactly. The servos' integral
 terms (Exudyn's plant integrates them explicitly per step) are states I (rad s) with the force -Ki I.
 """
 
@@ -26,12 +29,11 @@ from dataclasses import dataclass
 import exudyn as exu
 import numpy as np
 import xarray as xr
-from exudyn.itemInterface import SensorKinematicTree
 
 from uavdamp import contract
-from uavdamp.contract import DamperBounds, Observation
+from uavdamp.contract import DamperBounds, MountMotion, Observation, line_of_sight
 from uavdamp.excitation import on_grid
-from uavdamp.platform.model import build
+from uavdamp.platform.model import MOUNT_LINKS, build, mount_coordinates
 from uavdamp.platform.params import PlatformParams
 from uavdamp.platform.statespace import (
     Discrete,
@@ -42,7 +44,8 @@ from uavdamp.platform.statespace import (
     propagate,
 )
 
-# output rows of the plant (camera y, z m; yaw, pitch rad; base y, z m; isolator stroke rate y, z m s-1; mount y, z m)
+# output rows of the plant: camera y, z m; line of sight yaw, pitch rad (inertial); base y, z m (inertial);
+# isolator stroke y, z m and stroke rate y, z m s-1 (isolator frame)
 OUTPUTS = (
     "camera_y",
     "camera_z",
@@ -50,12 +53,11 @@ OUTPUTS = (
     "pitch",
     "base_y",
     "base_z",
+    "stroke_y",
+    "stroke_z",
     "stroke_rate_y",
     "stroke_rate_z",
-    "mount_y",
-    "mount_z",
 )
-_MOUNT = ("mount_y", "mount_z")
 _ISOLATOR = ("iso_y", "iso_z")
 _CACHE_SIZE = 64  # discretisations kept per plant: an on-off law needs 2, a continuous law one per new C
 _BLOCK = 32  # steps per lifted block (`statespace.lift`); segments shorter than 2 blocks step one by one
@@ -63,8 +65,9 @@ _BLOCK = 32  # steps per lifted block (`statespace.lift`); segments shorter than
 
 @dataclass(frozen=True)
 class Linearisation:
-    """M (kg...), K0, Kc (N m-1 per unit isolator K), D0, Dc over the tree's n coordinates, and the camera
-    point's Jacobian (3, n) in m per coordinate unit, all at rest."""
+    """M (kg...), K0, Kc (N m-1 per unit isolator K), D0, Dc over the tree's n coordinates, and the Jacobians at
+    rest of the camera point (3, n), the base point (3, n) (m per coordinate unit) and the line of sight (2, n)
+    (yaw, pitch rad per coordinate unit)."""
 
     mass: np.ndarray
     stiffness0: np.ndarray
@@ -72,6 +75,8 @@ class Linearisation:
     damping0: np.ndarray
     damping_unit: np.ndarray
     camera_jacobian: np.ndarray
+    base_jacobian: np.ndarray
+    sight_jacobian: np.ndarray
     link_index: dict
     servo_ki: np.ndarray  # N m rad-1 s-1 per coordinate, 0 where none
     mount: str
@@ -85,42 +90,42 @@ def _at_rest(mbs) -> None:
         mbs.systemData.SetODE2Coordinates_t(zeros, configuration=config)
 
 
-def _camera_jacobian(model, step: float = 1e-6) -> np.ndarray:
-    """d(camera position)/dq (3, n) by central differences of Exudyn's kinematic-tree sensor (added, then removed)."""
+def _jacobian(model, read, step: float = 1e-6) -> np.ndarray:
+    """d read() / dq (rows, n) by central differences, read() a function of the current configuration."""
     mbs = model.mbs
-    sensor = mbs.AddSensor(
-        SensorKinematicTree(
-            objectNumber=model.tree,
-            linkNumber=model.n - 1,
-            localPosition=np.asarray(model.camera_local, float).tolist(),
-            outputVariableType=exu.OutputVariableType.Position,
-            storeInternal=False,
-            writeToFile=False,
-        )
-    )
-    mbs.Assemble()
+    q = np.zeros(mbs.systemData.ODE2Size())
+    columns = []
     try:
-        jac = np.zeros((3, model.n))
-        q = np.zeros(mbs.systemData.ODE2Size())
         for j in range(model.n):
-            pos = []
+            values = []
             for sign in (1.0, -1.0):
                 q[model.q0 + j] = sign * step
                 mbs.systemData.SetODE2Coordinates(q, configuration=exu.ConfigurationType.Current)
-                pos.append(np.asarray(mbs.GetSensorValues(sensor), dtype=float))
+                values.append(np.asarray(read(), dtype=float))
             q[model.q0 + j] = 0.0
-            jac[:, j] = (pos[0] - pos[1]) / (2 * step)
+            columns.append((values[0] - values[1]) / (2 * step))
     finally:
-        mbs.DeleteSensor(sensor)
-        mbs.Assemble()
         _at_rest(mbs)
-    return jac
+    return np.column_stack(columns)
+
+
+def _output_jacobians(model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Jacobians of the camera point, the base point and the line of sight (Exudyn's sensors of the model)."""
+    mbs, sensors = model.mbs, model.sensors
+
+    def sight():
+        axis = np.asarray(mbs.GetSensorValues(sensors["camera_rotation"]), dtype=float).reshape(3, 3)[:, 0]
+        return np.array(line_of_sight(axis))
+
+    camera = _jacobian(model, lambda: mbs.GetSensorValues(sensors["camera"]))
+    base = _jacobian(model, lambda: mbs.GetSensorValues(sensors["base"]))
+    return camera, base, _jacobian(model, sight)
 
 
 def linearise(model) -> Linearisation:
-    """M, K0 + k Kc, D0 + c Dc and the camera Jacobian of the Exudyn platform model at rest.
+    """M, K0 + k Kc, D0 + c Dc and the output Jacobians of the Exudyn platform model at rest (q = 0, the static
+    equilibrium: its static forces hold it there, so the residual is zero).
 
-    model: mbs (assembled), tree, n, q0, link_index, pvec, dvec, servo_ki, camera_local, mount, body.
     The tree's control and force vectors are restored afterwards; coordinates are left at rest.
     """
     mbs, tree, n, q0 = model.mbs, model.tree, model.n, model.q0
@@ -136,20 +141,23 @@ def linearise(model) -> Linearisation:
             pvec[iso] = dvec[iso] = unit
             mbs.SetObjectParameter(tree, "jointPControlVector", pvec)
             mbs.SetObjectParameter(tree, "jointDControlVector", dvec)
-            mbs.SetObjectParameter(tree, "jointForceVector", np.zeros(n))
+            mbs.SetObjectParameter(tree, "jointForceVector", model.static_forces)
             m, k, d = (np.asarray(x)[block, block] for x in mbs.ComputeLinearizedSystem())
             found.append((m, k, d))
     finally:
         for name, value in saved.items():
             mbs.SetObjectParameter(tree, name, value)
     (m, k0, d0), (_, k1, d1) = found
+    camera, base, sight = _output_jacobians(model)
     return Linearisation(
         mass=m,
         stiffness0=k0,
         stiffness_unit=k1 - k0,
         damping0=d0,
         damping_unit=d1 - d0,
-        camera_jacobian=_camera_jacobian(model),
+        camera_jacobian=camera,
+        base_jacobian=base,
+        sight_jacobian=sight,
         link_index=dict(model.link_index),
         servo_ki=np.array(model.servo_ki, dtype=float),
         mount=model.mount,
@@ -164,7 +172,7 @@ class LinearModel:
         self.lin = lin
         idx = lin.link_index
         n = lin.mass.shape[0]
-        self.mount_cols = [idx[k] for k in _MOUNT]
+        self.mount_cols = [idx[k] for k in MOUNT_LINKS]
         self.free = [j for j in range(n) if j not in self.mount_cols]
         if not self.free:
             raise ValueError("the model has no free coordinates (rigid mount, lumped body): nothing to linearise")
@@ -179,8 +187,9 @@ class LinearModel:
         self.tq, self.tv = np.zeros((n, self.n_states)), np.zeros((n, self.n_states))
         self.tq[f, :nx] = np.eye(nx)
         self.tv[f, nx : 2 * nx] = np.eye(nx)
-        self.pq = np.zeros((n, 2))
-        self.pq[u, :] = np.eye(2)
+        m = len(u)
+        self.pq = np.zeros((n, m))
+        self.pq[u, :] = np.eye(m)
         self.pq[f, :] -= self.s
         self.hq, self.hv = self._output_maps(n)
 
@@ -189,14 +198,12 @@ class LinearModel:
         idx, lin = self.lin.link_index, self.lin
         hq, hv = np.zeros((len(OUTPUTS), n)), np.zeros((len(OUTPUTS), n))
         hq[0:2] = lin.camera_jacobian[1:3]
-        for row, name in ((2, "yaw"), (3, "pitch")):
-            if name in idx:
-                hq[row, idx[name]] = 1.0
-        for a, (mount, iso) in enumerate(zip(_MOUNT, _ISOLATOR, strict=True)):
-            hq[4 + a, idx[mount]] = hq[8 + a, idx[mount]] = 1.0
-            if self.isolated:
-                hq[4 + a, idx[iso]] = 1.0
-                hv[6 + a, idx[iso]] = 1.0
+        hq[2:4] = lin.sight_jacobian
+        hq[4:6] = lin.base_jacobian[1:3]
+        if self.isolated:
+            for a, iso in enumerate(_ISOLATOR):
+                hq[6 + a, idx[iso]] = 1.0
+                hv[8 + a, idx[iso]] = 1.0
         return hq, hv
 
     def state_space(self, stiffness: float, damping: float) -> StateSpace:
@@ -217,23 +224,25 @@ class LinearModel:
         a[nx : 2 * nx, nx : 2 * nx] = -m_inv @ d_xx
         a[nx : 2 * nx, 2 * nx :] = -m_inv @ select.T * ki  # joint force -Ki I on the servo joints
         a[2 * nx :, :nx] = select  # I' = x = x~ - S u
-        b = np.zeros((ns, 4))
-        b[nx : 2 * nx, :2] = m_inv @ (k_xx @ self.s - k_xu)
-        b[nx : 2 * nx, 2:] = m_inv @ (d_xx @ self.s - d_xu)
-        b[2 * nx :, :2] = -select @ self.s
+        m = len(u)
+        b = np.zeros((ns, 2 * m))
+        b[nx : 2 * nx, :m] = m_inv @ (k_xx @ self.s - k_xu)
+        b[nx : 2 * nx, m:] = m_inv @ (d_xx @ self.s - d_xu)
+        b[2 * nx :, :m] = -select @ self.s
         c = self.hq @ self.tq + self.hv @ self.tv
         return StateSpace(a=a, b=b, c=c, du=self.hq @ self.pq, dv=self.hv @ self.pq)
 
     def initial_state(self, u0: np.ndarray, v0: np.ndarray) -> np.ndarray:
         """State for the Exudyn plant's start: platform undeformed and at rest relative to the base; the base
-        at rest (isolated) or moving with the mount (rigid); mount at u0 (m) with rate v0 (m s-1).
-        u0, v0: (2,) or (2, nf); returns (ns,) or (ns, nf)."""
+        at rest (isolated: isolator stroke rate minus the mount's y and z rate) or moving with the mount (rigid);
+        mount links at u0 with rates v0 (`model.mount_coordinates`). u0, v0: (6,) or (6, nf); returns (ns,) or
+        (ns, nf)."""
         u0, v0 = np.asarray(u0, float), np.asarray(v0, float)
         nx = len(self.free)
         x_rate = np.zeros((nx, *v0.shape[1:]))
-        if self.isolated:  # isolator stroke rate -v0: the base at rest
-            for a, iso in enumerate(_ISOLATOR):
-                x_rate[self.free.index(self.lin.link_index[iso])] = -v0[a]
+        if self.isolated:  # isolator stroke rate -v0 in y and z: the base at rest
+            for axis, iso in zip((1, 2), _ISOLATOR, strict=True):
+                x_rate[self.free.index(self.lin.link_index[iso])] = -v0[axis]
         z = np.zeros((self.n_states, *u0.shape[1:]))
         z[:nx] = self.s @ u0
         z[nx : 2 * nx] = x_rate + self.s @ v0
@@ -298,44 +307,43 @@ class LinearPlant:
 
     def _demand(self, law, n: int, run: dict, z: np.ndarray) -> float:
         """The law's demand at grid point n (state z at t_n), clipped, with the Observation the Exudyn plant gives."""
-        mount_v = run["rate"][n]
         model, iso = self.model, [self.model.lin.link_index[k] for k in _ISOLATOR]
         q = model.tq @ z + model.pq @ run["u"][n]
-        q_rate = model.tv @ z + model.pq @ mount_v
+        q_rate = model.tv @ z + model.pq @ run["rate"][n]
+        mount_v = run["rate"][n][1:3].copy()
         observation = Observation(
             t_now=float(run["time"][n]),
             time=run["time"][: n + 1],
-            mount_y=run["u"][: n + 1, 0],
-            mount_z=run["u"][: n + 1, 1],
+            mount=run["u"][: n + 1],
             base_velocity=mount_v + q_rate[iso],
-            mount_velocity=mount_v.copy(),
+            mount_velocity=mount_v,
             stroke=q[iso],
         )
         return contract.clip(law(observation), self.bounds, observation.t_now)
 
-    def run(self, time, mount_y, mount_z, *, stiffness: float | None = None, law=None) -> xr.Dataset:
-        """One run; arguments, clipping, update times, initial state and response as `ExudynPlant.run`.
+    def prepare(self, time, mount: MountMotion) -> dict:
+        """The run's input on the solver grid: time, the motion, the mount links' coordinates u (n, 6), their slope
+        on each step (n - 1, 6) and rate at each point (n, 6): the central difference (at the ends: the adjacent
+        step's slope), within 0.4 % of its peak of the Exudyn plant's solved mount rate (7 Hz sine, 2 ms step;
+        measured), closer than the backward slope (4.5 %)."""
+        h = self.params.time_step
+        grid, motion = on_grid(time, mount, h)
+        u = mount_coordinates(motion)
+        u.flags.writeable = False  # a law sees views of these
+        slope = np.diff(u, axis=0) / h
+        rate = np.concatenate([slope[:1], 0.5 * (slope[:-1] + slope[1:]), slope[-1:]])
+        return {"time": grid, "motion": motion, "u": u, "slope": slope, "rate": rate}
 
-        The mount rate at a grid point (what a law sees, and what the stroke rate subtracts) is the central
-        difference of the input (at the ends: the adjacent step's slope): it is within 0.4 % of its peak of
-        the Exudyn plant's solved mount rate (7 Hz sine, 2 ms step; measured), closer than the backward slope
-        (4.5 %).
-        """
-        p = self.params
-        h = p.time_step
-        grid, y, z = on_grid(time, mount_y, mount_z, h)
+    def run(self, time, mount: MountMotion, *, stiffness: float | None = None, law=None) -> xr.Dataset:
+        """One run; arguments, clipping, update times, initial state and response as `ExudynPlant.run`."""
+        run = self.prepare(time, mount)
         isolated = self.mount == "isolated"
         stiffness, law, per_update = contract.prepare_run(self, stiffness, law)
-        per_update = per_update or grid.size - 1
-        y.flags.writeable = z.flags.writeable = False  # a law sees views of these
-        u = np.stack([y, z], axis=1)
-        slope = np.diff(u, axis=0) / h
-        rate = np.concatenate([slope[:1], 0.5 * (slope[:-1] + slope[1:]), slope[-1:]])  # central difference
-        run = {"time": grid, "u": u, "rate": rate}
-        states, applied = self._propagate(run, slope, stiffness, law if isolated else None, per_update)
+        per_update = per_update or run["time"].size - 1
+        states, applied = self._propagate(run, run["slope"], stiffness, law if isolated else None, per_update)
         plant, _ = self.step_map(stiffness, applied[0] if isolated else 0.0)
-        out = states @ plant.c.T + u @ plant.du.T + rate @ plant.dv.T  # c, du, dv do not depend on (K, C)
-        return self._response(grid, out, applied, stiffness if isolated else math.nan)
+        out = states @ plant.c.T + run["u"] @ plant.du.T + run["rate"] @ plant.dv.T  # c, du, dv do not depend on C
+        return self._response(run, out, applied, stiffness if isolated else math.nan)
 
     def _propagate(self, run: dict, slope: np.ndarray, stiffness: float, law, per_update: int):
         """States (time, n_states) and applied damping (time,) of a run, one update period at a time."""
@@ -355,7 +363,7 @@ class LinearPlant:
             applied[:] = math.nan
         return states, applied
 
-    def _response(self, grid, out, applied, stiffness: float) -> xr.Dataset:
+    def _response(self, run: dict, out, applied, stiffness: float) -> xr.Dataset:
         """The response dataset (`uavdamp.contract.RESPONSE_VARIABLES`) from the output rows (time, OUTPUTS)."""
         row = {name: k for k, name in enumerate(OUTPUTS)}
 
@@ -367,8 +375,10 @@ class LinearPlant:
             "camera_yaw": out[:, row["yaw"]],
             "camera_pitch": out[:, row["pitch"]],
             "damping": applied,
-            "mount_displacement": pair("mount"),
+            "mount_displacement": run["motion"].translation,
+            "mount_rotation": run["motion"].rotation,
             "base_displacement": pair("base"),
+            "isolator_stroke": pair("stroke"),
             "isolator_velocity": pair("stroke_rate"),
         }
-        return contract.response_dataset(grid, values, contract.response_attrs(self, stiffness))
+        return contract.response_dataset(run["time"], values, contract.response_attrs(self, stiffness))

@@ -2,17 +2,25 @@
 
 From the fuselage outwards:
 
-    mount y, mount z    prismatic, massless, prescribed by coordinate constraints
+    mount x, y, z       prismatic, massless, prescribed by coordinate constraints (the mount's translation)
+    mount rx, ry, rz    revolute about x, then y, then z (intrinsic X-Y-Z angles of the mount's rotation),
+                        massless, prescribed: the isolator frame moves and rotates with the mount
     isolator y, z       prismatic, spring K and damper C (the tree's PD control); the base (base_mass) rides on it
     displacement        prismatic z between base and intermediate body, spring only: the structural
                         flexibility (the paper's "spring-mass system")
     yaw                 revolute z, intermediate body (yaw servo); PID on the angle
     pitch               revolute y, pitch body + 0.9 kg camera (pitch servo); PID on the angle
 
-Axes: x forward (camera line of sight), y lateral, z up; coordinates about the static equilibrium (gravity left
-out: the isolator is taken as preloaded). Variants: ``mount="rigid"`` drops the isolator (the base follows the
-fuselage), ``body="lumped"`` replaces the platform by one mass on the isolator (SDOF checks), ``clamped=True``
-drops mount and isolator (base fixed: the platform's own modes).
+Axes: x forward (camera line of sight), y lateral, z up. Gravity (``platform.gravity_m_s2``, along -z of the
+inertial frame) acts on every body; the coordinates are taken about the static equilibrium of the level mount: a
+constant joint force on every free joint (`static_forces`) carries the weight there (the isolator's preload or its
+spring's static sag, the structural spring's static deflection and the pitch servo's held integral term: linear
+springs, so the dynamics about the equilibrium are the same; the sag is reported apart, `uavdamp.platform.stroke`).
+What gravity does beyond that stays in the model: the pitch link's pendulum stiffness -m g z_c (compensated in the
+servo's design, `design.design_stiffness`) and the weight's turn with the mount's rotation. Variants:
+``mount="rigid"`` drops the isolator (the base follows the fuselage), ``body="lumped"`` replaces the platform by
+one mass on the isolator (SDOF checks), ``clamped=True`` drops mount and isolator (base fixed: the platform's own
+modes).
 """
 
 from __future__ import annotations
@@ -31,12 +39,29 @@ from exudyn.itemInterface import (
     SensorKinematicTree,
     SensorNode,
 )
+from scipy.spatial.transform import Rotation
 
-from uavdamp.contract import MOUNTS
+from uavdamp.contract import MOUNTS, MountMotion
 from uavdamp.platform.design import COORDINATES, design_stiffness, mass_matrix, pitch_link
 from uavdamp.platform.params import PlatformParams
 
 BODIES = ("full", "lumped")
+MOUNT_LINKS = ("mount_x", "mount_y", "mount_z", "mount_rx", "mount_ry", "mount_rz")
+MOUNT_JOINTS = (
+    exu.JointType.PrismaticX,
+    exu.JointType.PrismaticY,
+    exu.JointType.PrismaticZ,
+    exu.JointType.RevoluteX,
+    exu.JointType.RevoluteY,
+    exu.JointType.RevoluteZ,
+)
+
+
+def mount_coordinates(mount: MountMotion) -> np.ndarray:
+    """The mount links' coordinates (n, 6) of a mount motion: translation x, y, z (m), then the intrinsic X-Y-Z
+    angles (rad) of the rotation R = Rx Ry Rz that its rotation vector gives (exact)."""
+    angles = Rotation.from_rotvec(np.asarray(mount.rotation, dtype=float).T).as_euler("XYZ")
+    return np.column_stack([np.asarray(mount.translation, dtype=float).T, angles])
 
 
 @dataclass(frozen=True)
@@ -74,6 +99,7 @@ class PlatformModel:
     servo_ki: np.ndarray
     joint_stiffness: np.ndarray
     camera_local: np.ndarray
+    static_forces: np.ndarray | None = None
     constraints: list[int] = field(default_factory=list)
     sensors: dict[str, int] = field(default_factory=dict)
 
@@ -89,13 +115,12 @@ def _chain(p: PlatformParams, mount: str, body: str, clamped: bool, lumped_mass:
         links.append(link)
 
     base_mass = (lumped_mass or s.total_mass) if body == "lumped" else s.base_mass
-    no_rotation = np.zeros((3, 3))  # the base only translates
+    no_rotation = np.zeros((3, 3))  # the base's own rotational inertia is left out (its rotation is prescribed)
     if not clamped:
-        add("mount_y", _Link(exu.JointType.PrismaticY))
-        if mount == "rigid":
-            add("mount_z", _Link(exu.JointType.PrismaticZ, base_mass, inertia=no_rotation))
-        else:
-            add("mount_z", _Link(exu.JointType.PrismaticZ))
+        for name, joint in zip(MOUNT_LINKS, MOUNT_JOINTS, strict=True):
+            last = name == MOUNT_LINKS[-1] and mount == "rigid"
+            add(name, _Link(joint, base_mass, inertia=no_rotation) if last else _Link(joint))
+        if mount == "isolated":
             add("iso_y", _Link(exu.JointType.PrismaticY))
             add("iso_z", _Link(exu.JointType.PrismaticZ, base_mass, inertia=no_rotation))
     if body == "lumped":
@@ -111,19 +136,20 @@ def _control_terms(p: PlatformParams, idx: dict, n: int, body: str, clamped: boo
     """Joint P, D and servo I vectors: structural spring and damping, servo P/D/I, the isolator's default K."""
     pvec, dvec, servo_ki = np.zeros(n), np.zeros(n), np.zeros(n)
     k_joint = design_stiffness(p.structure)
+    servo_p = design_stiffness(p.structure, gravity=p.gravity)  # the pitch gain holds the pendulum term too
     if body == "full":
         mdiag = np.diag(mass_matrix(p.structure))
         s = p.structure
         zetas = (s.structural_damping_ratio, s.servo_damping_ratio, s.servo_damping_ratio)
-        for name, k, m, zeta in zip(COORDINATES, k_joint, mdiag, zetas, strict=True):
-            pvec[idx[name]] = k
+        for name, k, kp, m, zeta in zip(COORDINATES, k_joint, servo_p, mdiag, zetas, strict=True):
+            pvec[idx[name]] = kp
             if not clamped:  # clamped: the undamped platform (D and I terms off)
                 dvec[idx[name]] = 2 * zeta * math.sqrt(k * m)
                 if name != "displacement":
                     servo_ki[idx[name]] = k / s.servo_integral_time
     if "iso_y" in idx:  # until a run sets them: the default K (so that an eigen-analysis sees it), no damping
         pvec[idx["iso_y"]] = pvec[idx["iso_z"]] = p.isolator_stiffness
-    return pvec, dvec, servo_ki, k_joint
+    return pvec, dvec, servo_ki, servo_p
 
 
 def build(
@@ -166,6 +192,7 @@ def build(
             ),
             linkCOMs=exu.Vector3DList([list(lk.com) for lk in links]),
             linkMasses=[lk.mass for lk in links],
+            gravity=[0.0, 0.0, -p.gravity],
             jointForceVector=zeros,
             jointPositionOffsetVector=zeros,
             jointVelocityOffsetVector=zeros,
@@ -180,26 +207,54 @@ def build(
         _add_mount_and_sensors(model)
     mbs.Assemble()
     model.q0 = mbs.GetNodeODE2Index(node)
+    model.static_forces = static_forces(model)
     return model
+
+
+def static_forces(model: PlatformModel) -> np.ndarray:
+    """Joint forces (N or N m per tree coordinate) that hold every free joint at rest at q = 0 against gravity:
+    minus the generalized gravity forces there (Exudyn's ODE2 right-hand side at rest with no joint force), zero on
+    the prescribed mount coordinates (their constraints carry them)."""
+    mbs, n = model.mbs, model.n
+    zeros = np.zeros(mbs.systemData.ODE2Size())
+    for config in (exu.ConfigurationType.Initial, exu.ConfigurationType.Current):
+        mbs.systemData.SetODE2Coordinates(zeros, configuration=config)
+        mbs.systemData.SetODE2Coordinates_t(zeros, configuration=config)
+    settings = exu.SimulationSettings()
+    settings.staticSolver.verboseMode = 0
+    settings.solution.file.write = False  # no solution/ folder in the working directory
+    solver = exu.MainSolverStatic()
+    solver.InitializeSolver(mbs, settings)
+    solver.ComputeODE2RHS(mbs)
+    rhs = np.array(solver.GetSystemResidual(), dtype=float)[model.q0 : model.q0 + n]
+    out = -rhs
+    out[[model.link_index[k] for k in MOUNT_LINKS if k in model.link_index]] = 0.0
+    return out
 
 
 def _add_mount_and_sensors(model: PlatformModel) -> None:
     """Coordinate constraints on the mount coordinates; in-memory sensors of the camera point and the state."""
     mbs, idx = model.mbs, model.link_index
     ground = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0))
-    for name in ("mount_y", "mount_z"):
+    for name in MOUNT_LINKS:
         marker = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=model.node, coordinate=idx[name]))
         model.constraints.append(mbs.AddObject(CoordinateConstraint(markerNumbers=[ground, marker])))
     stored = {"storeInternal": True, "writeToFile": False}  # in memory, no files
-    model.sensors["camera"] = mbs.AddSensor(
-        SensorKinematicTree(
-            objectNumber=model.tree,
-            linkNumber=model.n - 1,
-            localPosition=model.camera_local.tolist(),
-            outputVariableType=exu.OutputVariableType.Position,
-            **stored,
+    base = idx["iso_z"] if "iso_z" in idx else idx[MOUNT_LINKS[-1]]
+    for name, link, local, kind in (
+        ("camera", model.n - 1, model.camera_local, exu.OutputVariableType.Position),
+        ("camera_rotation", model.n - 1, np.zeros(3), exu.OutputVariableType.RotationMatrix),
+        ("base", base, np.zeros(3), exu.OutputVariableType.Position),
+    ):
+        model.sensors[name] = mbs.AddSensor(
+            SensorKinematicTree(
+                objectNumber=model.tree,
+                linkNumber=link,
+                localPosition=np.asarray(local, dtype=float).tolist(),
+                outputVariableType=kind,
+                **stored,
+            )
         )
-    )
     for name, kind in (
         ("coordinates", exu.OutputVariableType.Coordinates),
         ("rates", exu.OutputVariableType.Coordinates_t),

@@ -10,6 +10,27 @@ from dataclasses import dataclass
 from uavdamp.settings import require, setting
 
 BACKENDS = ("exudyn", "linear")
+WEIGHT_SUPPORTS = ("spring", "preloaded")
+
+
+@dataclass(frozen=True)
+class StrokeBudget:
+    """The isolator's stroke budget (``platform.stroke``; `uavdamp.platform.stroke`): reported, the dynamics do not
+    depend on it, so an edit reruns the study's budget, not the grid."""
+
+    weight_support: str = setting()  # "spring" (the spring carries the weight: static sag m g / K) or "preloaded"
+    max_stroke: float = setting("max_stroke_m")  # m, the stroke allowed each way from the unloaded length
+    manoeuvre_g: float = setting()  # 1, quasi-static manoeuvre load factor the stroke must also take
+
+    def validate(self) -> None:
+        where = "platform.stroke."
+        require(
+            self.weight_support in WEIGHT_SUPPORTS,
+            where + "weight_support",
+            f"must be one of {list(WEIGHT_SUPPORTS)}, got {self.weight_support!r}",
+        )
+        require(self.max_stroke > 0, where + "max_stroke_m", f"must be > 0, got {self.max_stroke}")
+        require(self.manoeuvre_g >= 0, where + "manoeuvre_g", f"must be >= 0, got {self.manoeuvre_g}")
 
 
 @dataclass(frozen=True)
@@ -123,8 +144,10 @@ class PlatformParams:
     isolator: Isolator
     solver: Solver
     backend: str
+    gravity: float = setting("gravity_m_s2")  # m s-2, along -z of the inertial frame (0: the weightless platform)
 
     def validate(self) -> None:
+        require(self.gravity >= 0, "platform.gravity_m_s2", f"must be >= 0, got {self.gravity}")
         require(self.backend in BACKENDS, "platform.backend", f"must be one of {list(BACKENDS)}, got {self.backend!r}")
         require(
             self.isolator.update_period >= self.solver.time_step,
@@ -156,8 +179,9 @@ class PlatformParams:
 
 @dataclass(frozen=True, kw_only=True)
 class PlatformSection(PlatformParams):
-    """The config section ``platform``: the platform and the platform stage's response figure."""
+    """The config section ``platform``: the platform, its stroke budget and the platform stage's response figure."""
 
+    stroke: StrokeBudget
     response: Response
 
     def validate(self) -> None:

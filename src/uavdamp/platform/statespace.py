@@ -1,7 +1,7 @@
 """Linear time-invariant plant in state space: exact discretisation and exact sine responses.
 
 The plant is z' = A z + B w, y = C z + Du u + Dv v with the input w = (u, v): u the prescribed mount
-displacement (m, y and z) and v its rate (m s-1). Two exact solutions are provided:
+coordinates (m inputs: m or rad) and v their rates. Two exact solutions are provided:
 
 - `discretise`: the input on a time grid of step h with u piecewise linear between samples (first-order
   hold) and v = its slope (piecewise constant). The augmented system [z; u; v]' = [[A, Bu, Bv], [0, 0, I],
@@ -21,8 +21,8 @@ from scipy.linalg import expm
 
 @dataclass(frozen=True)
 class StateSpace:
-    """Continuous plant: a (ns, ns) 1/s, b (ns, 4) over (u_y, u_z, v_y, v_z), outputs c (no, ns),
-    du (no, 2), dv (no, 2); the output units are those of the rows (m, rad, m s-1)."""
+    """Continuous plant: a (ns, ns) 1/s, b (ns, 2 m) over (u_1 .. u_m, v_1 .. v_m), outputs c (no, ns),
+    du (no, m), dv (no, m); the output units are those of the rows (m, rad, m s-1)."""
 
     a: np.ndarray
     b: np.ndarray
@@ -78,7 +78,7 @@ def lift(phi: np.ndarray, m: int = 32) -> Lifted:
 
 
 def propagate(step: Discrete, z0: np.ndarray, u: np.ndarray, v: np.ndarray, lifted: Lifted | None = None) -> np.ndarray:
-    """States (len(u) + 1, ns) from z0 over len(u) steps; u (steps, 2) at the step starts, v (steps, 2) slopes.
+    """States (len(u) + 1, ns) from z0 over len(u) steps; u (steps, m) at the step starts, v (steps, m) slopes.
 
     With `lifted` (of step.phi), blocks of m steps cost one matrix product each instead of m Python steps.
     """
@@ -132,21 +132,21 @@ def sine_outputs(
     h: float,
     rows: list[int],
 ) -> np.ndarray:
-    """Outputs `rows` at t = k h (s), k in `steps`, for u = amplitude (m) sin(2 pi f t) on `axis` (0: y, 1: z).
+    """Outputs `rows` at t = k h (s), k in `steps`, for u = amplitude sin(2 pi f t) on input `axis` (an index).
 
     Each frequency alone; free = `free_response_rows(c[rows], exp(A h), ...)[steps]`; z0 (ns, nf): the
     initial state per frequency. Returns (steps, rows, freq). Raises numpy.linalg.LinAlgError if
     i omega is an eigenvalue of A (an undamped resonance).
     """
     omega = 2 * np.pi * np.asarray(freq_hz, dtype=float)
-    nf, ns = omega.size, plant.n_states
-    w_hat = np.zeros((nf, 4), dtype=complex)
+    nf, ns, m = omega.size, plant.n_states, plant.du.shape[1]
+    w_hat = np.zeros((nf, 2 * m), dtype=complex)
     w_hat[:, axis] = amplitude  # u = Im(a e^{i w t})
-    w_hat[:, 2 + axis] = 1j * omega * amplitude  # v = u' = Im(i w a e^{i w t})
+    w_hat[:, m + axis] = 1j * omega * amplitude  # v = u' = Im(i w a e^{i w t})
     lhs = 1j * omega[:, None, None] * np.eye(ns) - plant.a
     g = np.linalg.solve(lhs, (w_hat @ plant.b.T)[..., None])[..., 0]  # (nf, ns)
     c, du, dv = plant.c[rows], plant.du[rows], plant.dv[rows]
-    y_hat = g @ c.T + w_hat[:, :2] @ du.T + w_hat[:, 2:] @ dv.T  # (nf, nr)
+    y_hat = g @ c.T + w_hat[:, :m] @ du.T + w_hat[:, m:] @ dv.T  # (nf, nr)
     phase = np.outer(np.asarray(steps) * h, omega)  # (time, freq), rad
     # Im(y_hat e^{i w t}) = Re(y_hat) sin(w t) + Im(y_hat) cos(w t)
     out = np.sin(phase)[:, None, :] * y_hat.real.T + np.cos(phase)[:, None, :] * y_hat.imag.T

@@ -35,13 +35,15 @@ def psd_limits(psd: np.ndarray, decades: float = 7.0) -> tuple[float, float]:
 def psd_figure(ds: xr.Dataset, segment_s: float = 2.0):
     """Acceleration and angular-rate PSDs per axis (Welch, `segment_s` s segments) of a `read_flight_log`
     dataset, log y-axis, the integration band shaded, the largest in-band line of each axis in the legend."""
-    rate_hz = float(ds.attrs["sample_rate_hz"])
+    rate_hz = float(ds.attrs["sample_rate_hz"])  # the log's; the data may be upsampled (time_step_s)
+    fs = 1.0 / float(ds.attrs.get("time_step_s", 1.0 / rate_hz))
     low, high = (float(v) for v in ds.attrs["band_hz"])
     fig, axes = plt.subplots(2, 1, figsize=(11, 7.5), constrained_layout=True, sharex=True)
     for ax, (name, ylabel, what) in zip(axes, PANELS, strict=True):
         shown = []
         for axis in ds.axis.values:
-            freq, psd = welch_psd(ds[name].sel(axis=axis).values, rate_hz, segment_s)
+            freq, psd = welch_psd(ds[name].sel(axis=axis).values, fs, segment_s)
+            freq, psd = freq[freq <= 0.5 * rate_hz], psd[freq <= 0.5 * rate_hz]  # up to the log's Nyquist
             freq, psd = freq[1:], psd[1:]  # the zero-frequency bin holds only the removed mean
             band = (freq >= low) & (freq <= high)
             peak = freq[band][np.argmax(psd[band])]

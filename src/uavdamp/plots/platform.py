@@ -25,7 +25,7 @@ def response_figure(
     axes = fig.subplots(2, 1, sharex=True)
     time = rigid["time"].values
     for ax, axis in zip(axes, ("y", "z"), strict=True):
-        mount = rigid["mount_displacement"].sel(axis=axis).values * MM_PER_M
+        mount = rigid["mount_displacement"].sel(mount_axis=axis).values * MM_PER_M
         ax.plot(time, mount, color="0.6", lw=1.0, label="fuselage (mount) input")
         ax.plot(
             time, rigid["camera_displacement"].sel(axis=axis).values * MM_PER_M, lw=1.0, label="camera, rigid mount"

@@ -45,7 +45,7 @@ def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: flo
     """Fig. 10 analogue: the camera without isolation, with the input and the paper's 1.5 mm mark."""
     part = ds.sel(case=case, time=slice(0, window_s))
     fig, ax = plt.subplots(figsize=(8, 3.6), constrained_layout=True)
-    ax.plot(part.time, _mm(part.mount_displacement.sel(axis=axis)), color="0.6", lw=0.8, label="input (fuselage)")
+    ax.plot(part.time, _mm(part.mount_displacement.sel(mount_axis=axis)), color="0.6", lw=0.8, label="input (fuselage)")
     ax.plot(
         part.time,
         _mm(part.camera_displacement.sel(stiffness=ds.stiffness[0], strategy="rigid", axis=axis)),

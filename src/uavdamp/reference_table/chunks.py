@@ -118,8 +118,8 @@ def plant_for(platform: PlatformParams, backend: str) -> tuple[ExudynPlant | Lin
 def evaluate(sim: ExudynPlant, spec: GridSpec, point: tuple[float, float, float, float]) -> np.ndarray:
     """Criteria (criteria, windows) of one grid point with the Exudyn plant (raises SolverFailed if it stops)."""
     freq_y, freq_z, stiffness, damping = point
-    t, y, z = sine_input(freq_y, freq_z, spec.amplitude, spec.duration, sim.params.time_step)
-    ds = sim.run(t, y, z, stiffness=stiffness, law=Constant(damping))
+    t, mount = sine_input(freq_y, freq_z, spec.amplitude, spec.duration, sim.params.time_step)
+    ds = sim.run(t, mount, stiffness=stiffness, law=Constant(damping))
     if spec.camera is None:
         return np.array(
             [

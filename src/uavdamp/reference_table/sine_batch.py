@@ -62,11 +62,12 @@ def sine_criteria(
     rows = [OUTPUTS.index(name) for name in ("camera_y", "camera_z", "yaw", "pitch")]
     free = free_response_rows(cont.c[rows], step.phi, n)
     per_axis = []
-    for axis, freqs in enumerate((freq_y_hz, freq_z_hz)):
+    m = cont.du.shape[1]  # the mount inputs: y is input 1, z input 2 (`platform.model.MOUNT_LINKS`)
+    for axis, freqs in zip((1, 2), (freq_y_hz, freq_z_hz), strict=True):
         freqs = np.asarray(freqs, dtype=float)
-        v0 = np.zeros((2, freqs.size))
+        v0 = np.zeros((m, freqs.size))
         v0[axis] = 2 * np.pi * freqs * amplitude  # the sine's rate at t = 0
-        z0 = plant.model.initial_state(np.zeros((2, freqs.size)), v0)
+        z0 = plant.model.initial_state(np.zeros((m, freqs.size)), v0)
         per_axis.append(sine_outputs(cont, free, freqs, axis, amplitude, z0, np.arange(n), h, rows))  # (t, row, f)
     out: dict[str, list] = {"displacement": [], "line_of_sight": [], **({"blur": []} if camera else {})}
     for k, window in zip(steps, windows.values(), strict=True):

@@ -1,0 +1,101 @@
+"""A measured flight as a study case and a benchmark scenario: windows, edges, sampling, upsampling.
+
+The logs here are CSVs of known sines written for each test and read by `uavdamp.read_flight_log` (what the
+flight_log stage writes), so every expected value is a closed form: a displacement line A sin(2 pi f t) from the
+acceleration -A (2 pi f)^2 sin(2 pi f t).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import excitation_options
+from test_flight_log import G, write_csv
+
+from uavdamp import excitation, inertial
+from uavdamp.flight_log import read_flight_log
+from uavdamp.scenarios import MeasuredScenario, ScenarioOptions, measured_input
+
+FS, BAND = 200.0, (10.0, 60.0)
+LINES = {"y": (23.0, 40e-6), "z": (41.0, 25e-6)}  # Hz, m: a line per axis (FLU), inside the band
+
+
+def _log(tmp_path, start_s=100.0, duration_s=9.0):
+    """A CSV log of the LINES as displacement (FRD on disk: y and z negated), from log time start_s."""
+    t = start_s + np.arange(int(round(duration_s * FS)) + 1) / FS
+    acc, gyro = np.zeros((3, t.size)), np.zeros((3, t.size))
+    acc[2] = -G
+    for row, axis in ((1, "y"), (2, "z")):
+        f, a = LINES[axis]
+        acc[row] += a * (2 * np.pi * f) ** 2 * np.sin(2 * np.pi * f * (t - start_s))  # FRD = -FLU: -(-A w^2 sin)
+    return write_csv(tmp_path / "flight.csv", t, acc, gyro)
+
+
+def _case(log: str = "flight", **keys) -> dict:
+    """A flight-log case as the config writes it."""
+    return {"flight_log": log, "amplitude_scaling": "measured", "motion": "full", **keys}
+
+
+def _options(cases: dict, duration: float):
+    return excitation_options(cases, duration=duration, highpass_hz=2.0, band_hz=(15.0, 50.0))
+
+
+def test_a_log_case_is_the_measured_motion_inside_its_window(tmp_path):
+    log = read_flight_log(_log(tmp_path), band_hz=BAND)
+    ds = excitation.cases_dataset({}, _options({"a": _case(window_s=[102.0, 106.5])}, 4.0), {"flight": log})
+    ds = ds.sel(case="a")
+    t = ds.time.values
+    assert t[0] == 0.0 and t[-1] == pytest.approx(4.0)
+    for axis, (f, a) in LINES.items():
+        expected = a * np.sin(2 * np.pi * f * (t + 2.0))  # the window starts 2 s into the log
+        got = ds.mount_displacement.sel(mount_axis=axis).values
+        assert np.abs(got - expected).max() < 0.005 * a  # the reader's in-band accuracy (0.5 %)
+    assert float(ds.scale.sel(axis="y")) == 1.0 and float(ds.rotation_scale) == 1.0
+    assert str(ds.source.values) == "flight log 'flight'" and np.isnan(ds.amplitude)
+
+
+def test_a_log_case_window_inside_the_untrusted_edges_is_refused(tmp_path):
+    log = read_flight_log(_log(tmp_path), band_hz=BAND)
+    edge = inertial.edge_s(BAND)  # 0.3 s
+    rule = rf"study.cases.a.window_s: \[100.1, 105.0\] s must lie within \[{100 + edge:.3f}"
+    with pytest.raises(ValueError, match=rule):
+        excitation.cases_dataset({}, _options({"a": _case(window_s=[100.1, 105.0])}, 4.0), {"flight": log})
+    # no window: the whole trusted span
+    ds = excitation.cases_dataset({}, _options({"a": _case()}, 8.0), {"flight": log})
+    assert float(ds.time[-1]) == pytest.approx(8.0)
+
+
+def test_cases_sampled_differently_are_refused_naming_the_case(tmp_path):
+    log = read_flight_log(_log(tmp_path), band_hz=BAND)
+    fine = read_flight_log(_log(tmp_path), band_hz=BAND, upsample=4)
+    options = _options({"a": _case(), "b": _case("fine")}, 4.0)
+    with pytest.raises(ValueError, match=r"study.cases.b: sampled every 0.00125 s \(flight log 'fine'\), the cases"):
+        excitation.cases_dataset({}, options, {"flight": log, "fine": fine})
+
+
+def test_upsampling_is_band_limited_interpolation(tmp_path):
+    """Every 4th fine sample is the log-rate one, and between them the fine samples are the sines themselves: a
+    linear interpolation of the log-rate samples would lose 1 - sinc^2(41 / 200) = 13 % of the 41 Hz line."""
+    coarse = read_flight_log(_log(tmp_path), band_hz=BAND)
+    fine = read_flight_log(_log(tmp_path), band_hz=BAND, upsample=4)
+    assert fine.attrs["time_step_s"] == pytest.approx(1 / FS / 4) and fine.attrs["sample_rate_hz"] == pytest.approx(FS)
+    a, b = coarse.mount_displacement.values, fine.mount_displacement.values
+    np.testing.assert_allclose(b[:, ::4], a, rtol=0, atol=1e-9 * np.abs(a).max())
+    t = fine.time.values
+    inside = (t > 1.0) & (t < t[-1] - 1.0)
+    f, amp = LINES["z"]
+    error = np.abs(b[2, inside] - amp * np.sin(2 * np.pi * f * t[inside])).max()
+    assert error < 0.005 * amp
+    linear = np.interp(t, coarse.time.values, a[2])
+    assert np.abs(linear[inside] - amp * np.sin(2 * np.pi * f * t[inside])).max() > 0.05 * amp  # the check can fail
+
+
+def test_a_measured_scenario_is_its_window_as_measured(tmp_path):
+    log = read_flight_log(_log(tmp_path), band_hz=BAND)
+    entry = MeasuredScenario(name="hop", flight_log="flight", window_s=(103.0, 108.0))
+    options = ScenarioOptions(
+        duration_s=4.0, amplitude_m=1e-3, highpass_hz=2.0, band_hz=(15.0, 50.0), helicopter=None, synthetic=()
+    )
+    t, motion = measured_input(entry, log, options)
+    f, a = LINES["y"]
+    assert np.abs(motion.y - a * np.sin(2 * np.pi * f * (t + 3.0))).max() < 0.005 * a
