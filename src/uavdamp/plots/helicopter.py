@@ -32,7 +32,7 @@ def fuselage_vibration_figure(ds: xr.Dataset, window_s: float = 5.0):
         spec = 1e3 * ds.amplitude_spectrum.sel(rotor="imbalanced", axis=axis)
         ax.semilogy(ds.omega, spec, "b-", lw=0.8)
         dominant = float(ds.dominant_omega.sel(rotor="imbalanced", axis=axis))
-        ax.axvline(dominant, color="k", ls="--", lw=0.8)
+        ax.axvline(dominant, color="k", ls="--", lw=0.8, label=f"dominant {dominant:.2f} rad/s")
         ax.annotate(
             f"dominant\n{dominant:.2f} rad/s",
             (dominant, 1.0),
