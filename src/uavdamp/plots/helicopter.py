@@ -128,8 +128,15 @@ def campbell_figure(ds: xr.Dataset, marks: dict[str, float] | None = None, max_h
     handles.append(Line2D([], [], color="0.6", ls="--", lw=0.8, label="n/rev"))
     if marks:
         text = ", ".join(f"{value:g}" for value in marks.values())
-        handles.append(Line2D([], [], color="r", marker="*", ls="none", ms=9, label=f"paper's peaks\n({text} rad/s)"))
-    ax.legend(handles=handles, loc="upper left", fontsize=8, title="largest share", title_fontsize=8)
+        handles.append(Line2D([], [], color="r", marker="*", ls="none", ms=9, label=f"paper's peaks ({text} rad/s)"))
+    fig.legend(
+        handles=handles,
+        loc="outside lower center",
+        ncols=len(handles),
+        fontsize=8,
+        title="colour: largest share of the mode's energy",
+        title_fontsize=8,
+    )
     return fig
 
 
