@@ -72,7 +72,7 @@ def reference_table_figure(table: xr.Dataset):
     positive = c.values[np.isfinite(c.values) & (c.values > 0)]
     c_norm = LogNorm(vmin=float(positive.min()), vmax=float(positive.max())) if positive.size else None
     flat = table.damping_flat_max / table.damping_flat_min
-    f_norm = LogNorm(vmin=1.0, vmax=max(float(flat.max()), 1.01))
+    f_norm = LogNorm(vmin=1.0, vmax=max(float(flat.max()), 2.0))  # a colour bar from 1 to at least 2
     extent = _extent(table)
     what = f"{table.attrs.get('criterion', '')}, {table.attrs.get('window', '')} window".strip(", ")
     _heatmaps(left, c, stiffness, c_norm, "viridis", extent, "optimal C (N s/m)", f"optimal damping C ({what})")
@@ -93,10 +93,11 @@ def reference_table_figure(table: xr.Dataset):
     ax_gain.annotate(
         f"{float(table.scheduling_gain[best]):.2f} at {stiffness_label(stiffness[best])}",
         (stiffness[best], float(table.scheduling_gain[best])),
-        xytext=(8, -4),
+        xytext=(8, -4) if best < stiffness.size - 1 else (-8, -4),
         textcoords="offset points",
         fontsize=8,
         va="top",
+        ha="left" if best < stiffness.size - 1 else "right",
     )
     ax_gain.set(
         xlabel="isolator stiffness K (N/m)",
@@ -131,7 +132,7 @@ def criteria_figure(table: xr.Dataset):
     norm = LogNorm(vmin=float(finite.min()), vmax=float(finite.max())) if finite.size else None
     extent = _extent(table)
     chosen = (table.attrs.get("criterion"), table.attrs.get("window"))
-    size = (min(16.0, 2.2 + 1.55 * stiffness.size), min(11.4, 0.9 + 1.7 * len(rows)))
+    size = (min(16.0, max(6.5, 2.2 + 1.55 * stiffness.size)), min(11.4, 1.1 + 1.7 * len(rows)))
     fig, axes = plt.subplots(
         len(rows), stiffness.size, figsize=size, squeeze=False, sharex=True, sharey=True, layout="constrained"
     )
@@ -159,5 +160,5 @@ def criteria_figure(table: xr.Dataset):
                 mark = " (learnt)" if (name, window) == chosen else ""
                 ax.set_ylabel(f"{name}\n{window}{mark}\nf_y (Hz)", fontsize=8)
     plain_log_ticks(fig.colorbar(im, ax=axes, label="optimal constant C (N s/m)", shrink=0.6).ax)
-    fig.suptitle("Optimal damping per criterion and window (gain: scheduling gain, best constant C / optimal C)")
+    fig.suptitle("Optimal damping per criterion and window\n(gain: scheduling gain, best constant C / optimal C)")
     return fig
