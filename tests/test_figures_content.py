@@ -9,7 +9,7 @@ import xarray as xr
 from conftest import displacement_grid as synthetic_grid
 
 from uavdamp.plots.helicopter import fuselage_vibration_figure
-from uavdamp.plots.reference_table import reference_table_figure
+from uavdamp.plots.reference_table import GAIN_LABEL, SPREAD_LABEL, reference_table_figure
 from uavdamp.reference_table import criteria as criterion
 
 
@@ -24,18 +24,24 @@ def test_reference_table_figure_shows_the_table():
     fig = reference_table_figure(table)
     try:
         images = [ax.images[0] for ax in fig.axes if ax.images]
-        assert len(images) == 4  # 2 stiffnesses x (optimal C, flat band)
+        assert len(images) == 4  # (optimal C, flat band) x 2 stiffnesses
         np.testing.assert_array_equal(images[0].get_array(), table.damping_opt.values[:, :, 0])
-        np.testing.assert_array_equal(images[2].get_array(), table.damping_opt.values[:, :, 1])
+        np.testing.assert_array_equal(images[1].get_array(), table.damping_opt.values[:, :, 1])
         expected_c1 = np.where(np.arange(3)[:, None] == 0, 1.0, 8.0) * np.ones((3, 3))
-        np.testing.assert_array_equal(images[2].get_array(), expected_c1)
+        np.testing.assert_array_equal(images[1].get_array(), expected_c1)
         flat = (table.damping_flat_max / table.damping_flat_min).values
-        np.testing.assert_array_equal(images[1].get_array(), flat[:, :, 0])
+        np.testing.assert_array_equal(images[2].get_array(), flat[:, :, 0])
+        gain_axes = next(ax for ax in fig.axes if GAIN_LABEL in [line.get_label() for line in ax.get_lines()])
+        spread_axes = next(ax for ax in fig.axes if SPREAD_LABEL in [line.get_label() for line in ax.get_lines()])
+        assert gain_axes is not spread_axes, "the gain (about 1) and the spread (up to 1e2) need their own axes"
+        assert gain_axes.get_yscale() == "linear" and spread_axes.get_yscale() == "log"
+        titles = [ax.get_title() for ax in fig.axes]
+        assert "K = 10 N/m" in titles and "K = 20 N/m" in titles
         lines = {line.get_label(): line for ax in fig.axes for line in ax.get_lines()}
-        gain = lines["scheduling gain (best constant C / optimal C)"]
+        gain = lines[GAIN_LABEL]
         np.testing.assert_array_equal(gain.get_xdata(), [10.0, 20.0])
         np.testing.assert_allclose(gain.get_ydata(), [1.0, 7 / 3], rtol=1e-14)
-        np.testing.assert_array_equal(lines["spread of optimal C (max/min)"].get_ydata(), [1.0, 8.0])
+        np.testing.assert_array_equal(lines[SPREAD_LABEL].get_ydata(), [1.0, 8.0])
     finally:
         plt.close(fig)
 

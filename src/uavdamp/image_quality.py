@@ -190,6 +190,16 @@ def frames_from_image_path(
     )
 
 
+# CF units of a length measured in pixels: UDUNITS (the unit library CF names) has no pixel, so such a metric has
+# units "1" (a length on the sensor over the pixel pitch), its long_name ends "in pixels" and it carries this comment
+PIXEL_COMMENT = "units 1: a length on the sensor divided by the pixel pitch, i.e. in pixels (UDUNITS has no pixel unit)"
+
+
+def pixel_attrs(long_name: str) -> dict[str, str]:
+    """CF attributes of a metric in pixels: units "1", the long_name (ending "in pixels") and PIXEL_COMMENT."""
+    return {"units": "1", "long_name": long_name, "comment": PIXEL_COMMENT}
+
+
 def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[float, str, str]]:
     """Scalar metrics {name: (value, units, long_name)} over the frames; jitter NaN for a single frame."""
     blur = frames.blur_px
@@ -200,27 +210,27 @@ def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[
         "blur_median": (
             float(np.median(blur)),
             "1",
-            "median over frames of the smear extent during the exposure (pixels)",
+            "median over frames of the smear extent during the exposure, in pixels",
         ),
-        "blur_p95": (float(np.percentile(blur, 95)), "1", "95th percentile over frames of the smear extent (pixels)"),
-        "blur_max": (float(blur.max()), "1", "largest smear extent of a frame (pixels)"),
+        "blur_p95": (float(np.percentile(blur, 95)), "1", "95th percentile over frames of the smear extent, in pixels"),
+        "blur_max": (float(blur.max()), "1", "largest smear extent of a frame, in pixels"),
         "blur_path_median": (
             float(np.median(frames.path_px)),
             "1",
-            "median over frames of the image path length (pixels)",
+            "median over frames of the image path length, in pixels",
         ),
         "blur_path_p95": (
             float(np.percentile(frames.path_px, 95)),
             "1",
-            "95th percentile of the image path length (pixels)",
+            "95th percentile of the image path length, in pixels",
         ),
         "sharp_fraction": (
             float(np.mean(blur <= sharp_threshold_px)),
             "1",
             f"fraction of frames with smear extent <= {sharp_threshold_px:g} px",
         ),
-        "frame_jitter_rms": (jitter, "1", "RMS distance between the centroids of consecutive frames (pixels)"),
-        "centroid_std": (scatter, "1", "scatter of the frame centroids, sqrt(var u + var v) (pixels)"),
+        "frame_jitter_rms": (jitter, "1", "RMS distance between the centroids of consecutive frames, in pixels"),
+        "centroid_std": (scatter, "1", "scatter of the frame centroids, sqrt(var u + var v), in pixels"),
         "mtf_nyquist_median": (
             float(np.median(frames.mtf_nyquist)),
             "1",
@@ -229,7 +239,7 @@ def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[
         "rolling_shutter_skew_p95": (
             float(np.percentile(frames.skew_px, 95)),
             "1",
-            "95th percentile of the rolling-shutter image shift from first to last row (pixels)",
+            "95th percentile of the rolling-shutter image shift from first to last row, in pixels",
         ),
     }
 

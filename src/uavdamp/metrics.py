@@ -11,7 +11,7 @@ concatenates them with xarray. Adding a metric is one function with ``@register(
     peak_stroke        largest |dynamic isolator stroke| over the run, per axis, m (NaN: rigid mount); the
                        study adds the static sag and manoeuvre stroke to it (`uavdamp.platform.stroke`)
     image              line of sight and image blur over the run (`uavdamp.image_quality`; needs options.camera):
-                       los_* (rad), blur_* (pixels, units "1": UDUNITS has no pixel), sharp_fraction,
+                       los_* (rad), blur_* (in pixels: units "1", `image_quality.pixel_attrs`), sharp_fraction,
                        mtf_nyquist_median, frame_blur (frame, pixels)
 
 A metric may also return a Dataset: a group of named values computed together.
@@ -106,16 +106,21 @@ def image(response: xr.Dataset, options) -> xr.Dataset:
     frames = image_quality.frame_metrics(*args)
     out = xr.Dataset(
         {
-            name: ((), value, {"units": units, "long_name": long_name})
+            name: (
+                (),
+                value,
+                image_quality.pixel_attrs(long_name)
+                if long_name.endswith("in pixels")
+                else {"units": units, "long_name": long_name},
+            )
             for name, (value, units, long_name) in values.items()
         }
     )
     out["frame_blur"] = (
         "frame",
         frames.blur_px,
-        {
-            "units": "1",
-            "long_name": "blur of each frame: extent of the image path of the scene point during the exposure (pixels)",
-        },
+        image_quality.pixel_attrs(
+            "blur of each frame: extent of the image path of the scene point during the exposure, in pixels"
+        ),
     )
     return out.assign_coords(frame=("frame", frames.start_s, {"units": "s", "long_name": "frame start time"}))

@@ -25,15 +25,16 @@ scalars = [
 for name in scalars:
     workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 k_paper = float(ds.stiffness[0])
-io.save_figure(plots.rigid_mount_figure(ds, fig["case_1"], "y"), snakemake.output.fig10)
-io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_1"], "y", k_paper), snakemake.output.fig11)
+early = {"early_s": options.early_s}
+io.save_figure(plots.rigid_mount_figure(ds, fig["case_1"], "y", **early), snakemake.output.fig10)
+io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_1"], "y", k_paper, **early), snakemake.output.fig11)
 io.save_figure(plots.tracked_frequency_figure(ds, fig["case_2"], "z"), snakemake.output.fig12)
-io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_2"], "z", k_paper), snakemake.output.fig13)
+io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_2"], "z", k_paper, **early), snakemake.output.fig13)
 io.save_figure(plots.blur_distribution_figure(ds), snakemake.output.blur)
 io.save_figure(plots.sharp_fraction_figure(ds), snakemake.output.sharp)
 folder = Path(snakemake.output.strategies)
 folder.mkdir(parents=True, exist_ok=True)
 for case in ds.case.values:
-    io.save_figure(plots.strategies_figure(ds, str(case)), folder / f"{case}.png")
+    io.save_figure(plots.strategies_figure(ds, str(case), **early), folder / f"{case}.png")
 config = {"study": {**cfg, "camera": p.camera}, "platform": {**p.platform, "stroke": p.stroke}}
 io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=workflow.snakemake_command(snakemake))

@@ -4,8 +4,8 @@ The plant is z' = A z + B w, y = C z + Du u + Dv v with the input w = (u, v): u 
 coordinates (m inputs: m or rad) and v their rates. Two exact solutions are provided:
 
 - `discretise`: the input on a time grid of step h with u piecewise linear between samples (first-order
-  hold) and v = its slope (piecewise constant). The augmented system [z; u; v]' = [[A, Bu, Bv], [0, 0, I],
-  [0, 0, 0]] [z; u; v] is exact for such an input, so one matrix exponential gives the step map.
+  hold) and v = its slope (piecewise constant). The augmented system `[z; u; v]' = [[A, Bu, Bv], [0, 0, I],
+  [0, 0, 0]] [z; u; v]` is exact for such an input, so one matrix exponential gives the step map.
 - `sine_outputs`: u = a sin(omega t) e_axis, v = a omega cos(omega t) e_axis exactly (not sampled): the
   particular solution Im(G exp(i omega t)) with G = (i omega I - A)^-1 B w_hat plus the free response
   exp(A t)(z0 - Im G), sampled at t = k h by powers of exp(A h). Vectorised over frequencies.

@@ -13,7 +13,8 @@ import xarray as xr  # noqa: E402
 def criteria_figure(ds: xr.Dataset, damper: str = "ideal"):
     """Heat maps of log10 J (controllers x criteria): evaluation mean and worst, one column per stiffness."""
     ks = ds.stiffness.values
-    fig, axes = plt.subplots(2, ks.size, figsize=(5.5 * ks.size, 8.5), squeeze=False, constrained_layout=True)
+    size = (min(16.0, 5.5 * ks.size), 8.5)
+    fig, axes = plt.subplots(2, ks.size, figsize=size, squeeze=False, constrained_layout=True)
     for col, k in enumerate(ks):
         for row, name in enumerate(("J_mean", "J_worst")):
             ax = axes[row, col]
@@ -34,17 +35,21 @@ def boxplot_figure(ds: xr.Dataset, criteria=("los_std", "blur_p95", "displacemen
     ks = ds.stiffness.values
     evaluation = ds.J.where(ds.set == "evaluation", drop=True).sel(damper=damper)
     fig, axes = plt.subplots(
-        len(criteria), ks.size, figsize=(6 * ks.size, 3.2 * len(criteria)), squeeze=False, constrained_layout=True
+        len(criteria),
+        ks.size,
+        figsize=(min(16.0, 6 * ks.size), min(11.5, 3.2 * len(criteria))),
+        squeeze=False,
+        constrained_layout=True,
     )
     names = [str(c) for c in ds.controller.values]
     for col, k in enumerate(ks):
         for row, criterion in enumerate(criteria):
             ax = axes[row, col]
             data = [evaluation.sel(stiffness=k, criterion=criterion, controller=c).values for c in names]
-            ax.boxplot([d[np.isfinite(d)] for d in data], showfliers=True)
+            ax.boxplot([d[np.isfinite(d)] for d in data], showfliers=True, medianprops={"color": "k", "lw": 1.5})
             ax.set_xticks(range(1, len(names) + 1), names, rotation=35, ha="right", fontsize=8)
             ax.set_yscale("log")
-            ax.set_ylabel(f"J {criterion}")
+            ax.set_ylabel(f"J {criterion} (1; rigid = 1)")
             ax.set_title(f"K = {k:g} N/m, {evaluation.scenario.size} evaluation scenarios", fontsize=9)
     return fig
 

@@ -41,7 +41,7 @@ def response_figure(
         )
         ax.set_ylabel(f"{axis} displacement (mm)")
         ax.grid(True, lw=0.3)
-    axes[0].legend(loc="upper right", fontsize="small")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=3, fontsize="small")
     axes[-1].set_xlabel("time (s)")
     title = "Camera response to a mono-frequency fuselage input"
     if input_label:

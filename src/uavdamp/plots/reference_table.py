@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import math
+import re
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -10,65 +13,132 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
 
+from uavdamp.plots.style import number, plain_log_ticks, stiffness_label  # noqa: E402
+
+GAIN_LABEL = "scheduling gain (best constant C / optimal C)"
+SPREAD_LABEL = "spread of optimal C (max/min)"
+
+
+def _extent(table: xr.Dataset) -> list[float]:
+    return [float(table.freq_z[0]), float(table.freq_z[-1]), float(table.freq_y[0]), float(table.freq_y[-1])]
+
+
+def _tolerance(table: xr.Dataset) -> str:
+    """The flat band's tolerance as its long_name states it ("5%"), else "the tolerance"."""
+    found = re.search(r"within (\S+) of", table.damping_flat_max.attrs.get("long_name", ""))
+    return found.group(1) if found else "the tolerance"
+
+
+def _heatmaps(subfig, data: xr.DataArray, stiffness, norm, cmap: str, extent, colour_label: str, title: str):
+    """One heatmap per stiffness on a near-square grid of shared axes, one colour bar; returns the images."""
+    ncols = math.ceil(math.sqrt(len(stiffness)))
+    nrows = math.ceil(len(stiffness) / ncols)
+    axes = subfig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False)
+    images = []
+    for i, ax in enumerate(axes.flat):
+        if i >= len(stiffness):
+            ax.set_axis_off()
+            continue
+        k = stiffness[i]
+        images.append(
+            ax.imshow(data.sel(stiffness=k).values, origin="lower", aspect="auto", extent=extent, norm=norm, cmap=cmap)
+        )
+        ax.set_title(stiffness_label(k), fontsize=9)
+        ax.tick_params(labelsize=8)
+        if i // ncols == nrows - 1 or i + ncols >= len(stiffness):
+            ax.set_xlabel("f_z (Hz)", fontsize=8)
+            ax.tick_params(labelbottom=True)
+        if i % ncols == 0:
+            ax.set_ylabel("f_y (Hz)", fontsize=8)
+    plain_log_ticks(subfig.colorbar(images[-1], ax=axes, label=colour_label, shrink=0.8).ax)
+    subfig.suptitle(title, fontsize=10)
+    return images
+
 
 def reference_table_figure(table: xr.Dataset):
-    """Row 1: damping_opt heatmaps, one per stiffness. Row 2: flat band damping_flat_max /
-    damping_flat_min (1 = sharp optimum). Right: spread of damping_opt and scheduling gain vs K."""
+    """The table of one criterion and window at a glance, on a laptop screen.
+
+    Top left: damping_opt heatmaps, one per stiffness (log colour). Top right: the flat band damping_flat_max /
+    damping_flat_min (1 = sharp optimum; log colour). Bottom: the scheduling gain against K on its own linear
+    axis (the key quantity: 1 = scheduling C by frequency buys nothing) and the spread of damping_opt on a log
+    axis. The images come in the order (optimal C per K..., flat band per K...)."""
     stiffness = table.stiffness.values
-    n = stiffness.size
-    fig = plt.figure(figsize=(3.0 * n + 4.0, 6.5), constrained_layout=True)
-    grid = fig.add_gridspec(2, n + 1, width_ratios=[1] * n + [1.4])
+    ncols = math.ceil(math.sqrt(stiffness.size))
+    nrows = math.ceil(stiffness.size / ncols)
+    fig = plt.figure(figsize=(min(15.5, 4.0 + 3.6 * ncols), 2.0 + 2.1 * nrows + 2.9), layout="constrained")
+    top, bottom = fig.subfigures(2, 1, height_ratios=[2.0 + 2.1 * nrows, 2.9])
+    left, right = top.subfigures(1, 2)
     c = table.damping_opt
-    c_norm = LogNorm(vmin=float(c.min()), vmax=float(c.max())) if float(c.min()) > 0 else None
+    positive = c.values[np.isfinite(c.values) & (c.values > 0)]
+    c_norm = LogNorm(vmin=float(positive.min()), vmax=float(positive.max())) if positive.size else None
     flat = table.damping_flat_max / table.damping_flat_min
-    f_norm = LogNorm(vmin=1.0, vmax=max(float(flat.max()), 1.01))
-    extent = [float(table.freq_z[0]), float(table.freq_z[-1]), float(table.freq_y[0]), float(table.freq_y[-1])]
-    for j, k in enumerate(stiffness):
-        for row, (data, norm, label) in enumerate(
-            ((c, c_norm, "optimal C (N s/m)"), (flat, f_norm, "flat band: C_max / C_min within tolerance"))
-        ):
-            ax = fig.add_subplot(grid[row, j])
-            im = ax.imshow(
-                data.sel(stiffness=k).values,
-                origin="lower",
-                aspect="auto",
-                extent=extent,
-                norm=norm,
-                cmap="viridis" if row == 0 else "magma",
-            )
-            ax.set(xlabel="f_z (Hz)", ylabel="f_y (Hz)" if j == 0 else None, title=f"K = {k:.3g} N/m")
-            if j == n - 1:
-                fig.colorbar(im, ax=ax, label=label)
-    ax = fig.add_subplot(grid[:, n])
-    ax.semilogx(stiffness, table.damping_opt_spread, "o-", label="spread of optimal C (max/min)")
-    ax.semilogx(stiffness, table.scheduling_gain, "s-", label="scheduling gain (best constant C / optimal C)")
-    ax.axhline(1.0, color="k", lw=0.8, ls=":")
-    ax.set(xlabel="isolator stiffness K (N/m)", ylabel="ratio (1)", title="where frequency-scheduled damping can help")
-    ax.legend(fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
+    f_norm = LogNorm(vmin=1.0, vmax=max(float(flat.max()), 2.0))  # a colour bar from 1 to at least 2
+    extent = _extent(table)
+    what = f"{table.attrs.get('criterion', '')}, {table.attrs.get('window', '')} window".strip(", ")
+    _heatmaps(left, c, stiffness, c_norm, "viridis", extent, "optimal C (N s/m)", f"optimal damping C ({what})")
+    _heatmaps(
+        right,
+        flat,
+        stiffness,
+        f_norm,
+        "magma",
+        extent,
+        "C_max / C_min (1)",
+        f"flat band: the C whose criterion is within {_tolerance(table)} of the optimum, C_max / C_min",
+    )
+    ax_gain, ax_spread = bottom.subplots(1, 2)
+    ax_gain.semilogx(stiffness, table.scheduling_gain, "s-", color="tab:orange", label=GAIN_LABEL)
+    ax_gain.axhline(1.0, color="k", lw=0.8, ls=":")
+    best = int(np.nanargmax(table.scheduling_gain.values))
+    ax_gain.annotate(
+        f"{float(table.scheduling_gain[best]):.2f} at {stiffness_label(stiffness[best])}",
+        (stiffness[best], float(table.scheduling_gain[best])),
+        xytext=(8, -4) if best < stiffness.size - 1 else (-8, -4),
+        textcoords="offset points",
+        fontsize=8,
+        va="top",
+        ha="left" if best < stiffness.size - 1 else "right",
+    )
+    ax_gain.set(
+        xlabel="isolator stiffness K (N/m)",
+        ylabel="scheduling gain (1)",
+        title="scheduling gain: criterion at the best constant C / at the optimal C (1: nothing to gain)",
+    )
+    ax_spread.loglog(stiffness, table.damping_opt_spread, "o-", color="tab:blue", label=SPREAD_LABEL)
+    ax_spread.set(
+        xlabel="isolator stiffness K (N/m)",
+        ylabel="max / min of optimal C (1)",
+        title="spread of the optimal C over the input frequencies",
+    )
+    for ax in (ax_gain, ax_spread):
+        ax.title.set_fontsize(9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.set_xticks(stiffness, [number(k) for k in stiffness], fontsize=8, rotation=45 if stiffness.size > 6 else 0)
+        ax.minorticks_off()
+    plain_log_ticks(ax_spread)
     return fig
 
 
 def criteria_figure(table: xr.Dataset):
-    """Optimal C per criterion side by side: columns (criterion, window), rows stiffness; one log colour scale.
+    """Optimal C per criterion side by side: rows (criterion, window), columns stiffness; one log colour scale.
 
     Both windows are drawn (transient: from rest, the paper's; steady: after the start-up), since where the
     two disagree the start-up, not the steady response, sets the optimum. Each panel's title gives the
     scheduling gain of its criterion, window and K; the chosen one (table attrs) is marked."""
     criteria, windows, stiffness = (table[name].values for name in ("criterion", "window", "stiffness"))
-    columns = [(str(c), str(w)) for c in criteria for w in windows]
+    rows = [(str(c), str(w)) for c in criteria for w in windows]
     c = table.damping_opt
     finite = c.values[np.isfinite(c.values) & (c.values > 0)]
     norm = LogNorm(vmin=float(finite.min()), vmax=float(finite.max())) if finite.size else None
-    extent = [float(table.freq_z[0]), float(table.freq_z[-1]), float(table.freq_y[0]), float(table.freq_y[-1])]
+    extent = _extent(table)
     chosen = (table.attrs.get("criterion"), table.attrs.get("window"))
-    size = (2.4 * len(columns) + 1.2, 2.0 * stiffness.size + 0.8)
+    size = (min(16.0, max(6.5, 2.2 + 1.55 * stiffness.size)), min(11.4, 1.1 + 1.7 * len(rows)))
     fig, axes = plt.subplots(
-        stiffness.size, len(columns), figsize=size, squeeze=False, sharex=True, sharey=True, constrained_layout=True
+        len(rows), stiffness.size, figsize=size, squeeze=False, sharex=True, sharey=True, layout="constrained"
     )
-    for j, (name, window) in enumerate(columns):
+    for i, (name, window) in enumerate(rows):
         part = table.sel(criterion=name, window=window)
-        for i, k in enumerate(stiffness):
+        for j, k in enumerate(stiffness):
             ax = axes[i, j]
             im = ax.imshow(
                 part.damping_opt.sel(stiffness=k).values,
@@ -79,15 +149,16 @@ def criteria_figure(table: xr.Dataset):
                 cmap="viridis",
             )
             gain = float(part.scheduling_gain.sel(stiffness=k))
-            ax.set_title(f"K {k:.3g} N/m, gain {gain:.2f}", fontsize=7)
-            ax.tick_params(labelsize=6)
+            title = f"gain {gain:.2f}"
             if i == 0:
-                mark = " (learnt)" if (name, window) == chosen else ""
-                ax.set_title(f"{name}, {window}{mark}\n" + ax.get_title(), fontsize=8)
-            if i == stiffness.size - 1:
-                ax.set_xlabel("f_z (Hz)", fontsize=7)
+                title = f"{stiffness_label(k)}\n" + title
+            ax.set_title(title, fontsize=8)
+            ax.tick_params(labelsize=7)
+            if i == len(rows) - 1:
+                ax.set_xlabel("f_z (Hz)", fontsize=8)
             if j == 0:
-                ax.set_ylabel("f_y (Hz)", fontsize=7)
-    fig.colorbar(im, ax=axes, label="optimal constant C (N s/m)", shrink=0.6)
-    fig.suptitle("Optimal damping per criterion and window (gain: scheduling gain, best constant C / optimal C)")
+                mark = " (learnt)" if (name, window) == chosen else ""
+                ax.set_ylabel(f"{name}\n{window}{mark}\nf_y (Hz)", fontsize=8)
+    plain_log_ticks(fig.colorbar(im, ax=axes, label="optimal constant C (N s/m)", shrink=0.6).ax)
+    fig.suptitle("Optimal damping per criterion and window\n(gain: scheduling gain, best constant C / optimal C)")
     return fig

@@ -8,6 +8,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+
+from uavdamp.plots.style import early_peak, move_from_start, plain_log_ticks, stiffness_label  # noqa: E402
 
 COLOURS = {
     "rigid": "tab:gray",
@@ -17,6 +21,11 @@ COLOURS = {
     "skyhook": "tab:green",
 }
 _OTHERS = ("tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "black")
+LINESTYLES = {"rigid": "-", "passive": "--", "optimal_passive": "-.", "anfis": "-", "skyhook": ":"}
+_OTHER_STYLES = ((0, (5, 1, 1, 1)), (0, (3, 1, 1, 1, 1, 1)), (0, (1, 1)), (0, (8, 2)))
+# a law that changes C more often than this (changes per s) is drawn as its running mean over MEAN_WINDOW_S
+FAST_SWITCHING_PER_S = 10.0
+MEAN_WINDOW_S = 0.1
 
 
 def colour(strategy: str, names=()) -> str:
@@ -27,8 +36,44 @@ def colour(strategy: str, names=()) -> str:
     return _OTHERS[others.index(strategy) % len(_OTHERS)] if strategy in others else _OTHERS[0]
 
 
+def linestyle(strategy: str, names=()) -> str | tuple:
+    """The line style of a strategy (colour alone does not separate five overlapping lines)."""
+    if strategy in LINESTYLES:
+        return LINESTYLES[strategy]
+    others = [str(n) for n in names if str(n) not in LINESTYLES] or [strategy]
+    return _OTHER_STYLES[others.index(strategy) % len(_OTHER_STYLES)] if strategy in others else "-"
+
+
+def _style(strategy: str, names=()) -> dict:
+    """Colour, style and width of a strategy's line; the rigid mount drawn wide and light, behind the others."""
+    if strategy == "rigid":
+        return {"color": colour(strategy), "ls": "-", "lw": 2.2, "alpha": 0.45, "zorder": 1}
+    return {"color": colour(strategy, names), "ls": linestyle(strategy, names), "lw": 1.2, "zorder": 2}
+
+
 def _mm(da: xr.DataArray) -> np.ndarray:
     return 1e3 * da.values
+
+
+def _mm_from_start(da: xr.DataArray) -> np.ndarray:
+    """Displacement in mm relative to its value at t = 0 (the input's offset; `style.move_from_start`)."""
+    return 1e3 * move_from_start(da.values)
+
+
+def _fast_switching(time: np.ndarray, damping: np.ndarray) -> bool:
+    """True when C changes more than FAST_SWITCHING_PER_S times per second (an on-off law switching every step)."""
+    finite = np.isfinite(damping)
+    if finite.sum() < 2 or time[-1] <= time[0]:
+        return False
+    changes = np.count_nonzero(np.diff(damping[finite]))
+    return changes / (time[-1] - time[0]) > FAST_SWITCHING_PER_S
+
+
+def _running_mean(time: np.ndarray, values: np.ndarray, window_s: float) -> np.ndarray:
+    """Centred running mean over `window_s` (samples uniform in time; shorter windows at the ends)."""
+    n = max(1, int(round(window_s / (time[1] - time[0]))))
+    kernel = np.ones(n)
+    return np.convolve(values, kernel, mode="same") / np.convolve(np.ones_like(values), kernel, mode="same")
 
 
 def _damping_axis(ax, values) -> None:
@@ -37,130 +82,209 @@ def _damping_axis(ax, values) -> None:
     v = v[np.isfinite(v) & (v > 0)]
     if v.size and v.max() / v.min() > 10:
         ax.set_yscale("log")
+        plain_log_ticks(ax)
     else:
         ax.ticklabel_format(axis="y", style="plain", useOffset=False)
 
 
-def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: float = 2.0):
-    """Fig. 10 analogue: the camera without isolation, with the input and the paper's 1.5 mm mark."""
-    part = ds.sel(case=case, time=slice(0, window_s))
-    fig, ax = plt.subplots(figsize=(8, 3.6), constrained_layout=True)
-    ax.plot(part.time, _mm(part.mount_displacement.sel(mount_axis=axis)), color="0.6", lw=0.8, label="input (fuselage)")
-    ax.plot(
-        part.time,
-        _mm(part.camera_displacement.sel(stiffness=ds.stiffness[0], strategy="rigid", axis=axis)),
-        color="k",
-        lw=1.2,
-        label="camera, rigid mount",
-    )
+def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: float = 2.0, early_s: float = 0.5):
+    """Fig. 10 analogue: the camera without isolation, with the input and the paper's 1.5 mm mark.
+
+    Both curves are drawn relative to their value at t = 0 (the input's offset: `style.move_from_start`); the
+    title's peak is the largest such move up to `early_s`."""
+    full = ds.sel(case=case)
+    part = full.sel(time=slice(0, window_s))
+    camera = full.camera_displacement.sel(stiffness=ds.stiffness[0], strategy="rigid", axis=axis)
+    fig, ax = plt.subplots(figsize=(8, 3.8), constrained_layout=True)
+    ax.plot(part.time, _mm_from_start(part.mount_displacement.sel(mount_axis=axis)), color="0.6", lw=0.8, label="input")
+    ax.plot(part.time, _mm_from_start(camera.sel(time=slice(0, window_s))), color="k", lw=1.2, label="camera")
     for sign in (1, -1):
-        ax.axhline(sign * 1.5, color="tab:red", ls=":", lw=0.8)
-    ax.axvline(0.5, color="0.3", ls="--", lw=0.6)
-    peak = 1e3 * float(ds.peak_early.sel(case=case, stiffness=ds.stiffness[0], strategy="rigid", axis=axis))
+        ax.axhline(sign * 1.5, color="tab:red", ls=":", lw=0.8, label="paper: 1.5 mm" if sign > 0 else None)
+    ax.axvline(early_s, color="0.3", ls="--", lw=0.6)
+    peak, at = early_peak(camera.time.values, 1e3 * camera.values, early_s)
+    ax.plot(at, float(np.sign(_mm_from_start(camera)[camera.time.values == at][0])) * peak, "o", color="tab:red")
     ax.set(
         xlabel="time (s)",
-        ylabel=f"{axis.upper()} displacement (mm)",
-        title=f"{case}: camera {axis.upper()} without isolation (peak before 0.5 s: {peak:.2f} mm; paper: > 1.5 mm)",
+        ylabel=f"{axis.upper()} from its start (mm)",
+        title=f"{case}: camera {axis.upper()} on a rigid mount\n"
+        f"largest move from the start before {early_s:g} s (dot): {peak:.2f} mm; paper: > 1.5 mm",
     )
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     return fig
 
 
-def passive_vs_anfis_figure(ds: xr.Dataset, case: str, axis: str, stiffness: float, window_s: float = 3.0):
-    """Figs. 11 and 13 analogue: the camera with passive and with ANFIS semi-active damping, and C(t)."""
-    part = ds.sel(case=case, stiffness=stiffness, time=slice(0, window_s))
-    fig, (ax, axc) = plt.subplots(2, 1, figsize=(8, 5), sharex=True, height_ratios=[3, 1.3], constrained_layout=True)
+def passive_vs_anfis_figure(
+    ds: xr.Dataset, case: str, axis: str, stiffness: float, window_s: float = 3.0, early_s: float = 0.5
+):
+    """Figs. 11 and 13 analogue: the camera with passive and with ANFIS semi-active damping, and C(t).
+
+    The camera is drawn relative to its value at t = 0 (the input's offset, the same for both: the platform
+    starts at rest there; `style.move_from_start`); each legend entry gives the largest such move up to
+    `early_s`, marked on its curve."""
+    full = ds.sel(case=case, stiffness=stiffness)
+    part = full.sel(time=slice(0, window_s))
+    fig, (ax, axc) = plt.subplots(2, 1, figsize=(8, 5.2), sharex=True, height_ratios=[3, 1.3], constrained_layout=True)
     for strategy in ("passive", "anfis"):
-        peak = 1e3 * float(ds.peak_early.sel(case=case, stiffness=stiffness, strategy=strategy, axis=axis))
+        camera = full.camera_displacement.sel(strategy=strategy, axis=axis)
+        peak, at = early_peak(camera.time.values, 1e3 * camera.values, early_s)
+        move = _mm_from_start(camera)
         ax.plot(
             part.time,
-            _mm(part.camera_displacement.sel(strategy=strategy, axis=axis)),
+            move[: part.sizes["time"]],
             color=colour(strategy),
-            lw=1.1,
-            label=f"{strategy} (peak before 0.5 s: {peak:.3f} mm)",
+            ls=linestyle(strategy),
+            lw=1.2,
+            label=f"{strategy}: {peak:.3f} mm at {at:.2f} s",
         )
-        axc.step(part.time, part.damping.sel(strategy=strategy), where="post", color=colour(strategy))
-    ax.axvline(0.5, color="0.3", ls="--", lw=0.6)
-    ax.set(ylabel=f"camera {axis.upper()} (mm)", title=f"{case}, K = {stiffness:g} N/m: passive vs ANFIS semi-active")
-    ax.legend(fontsize=8)
+        ax.plot(at, move[camera.time.values == at][0], "o", color=colour(strategy), ms=5)
+        axc.step(
+            part.time, part.damping.sel(strategy=strategy), where="post", color=colour(strategy), ls=linestyle(strategy)
+        )
+    ax.axvline(early_s, color="0.3", ls="--", lw=0.6)
+    ax.set(ylabel=f"camera {axis.upper()} from its start (mm)")
+    fig.suptitle(f"{case}, {stiffness_label(stiffness)}: passive vs ANFIS semi-active")
+    fig.legend(
+        *ax.get_legend_handles_labels(),
+        fontsize=8,
+        title=f"largest move from the start before {early_s:g} s (dot)",
+        title_fontsize=8,
+        loc="outside lower center",
+        ncols=2,
+    )
     axc.set(xlabel="time (s)", ylabel="C (N s/m)")
     _damping_axis(axc, part.damping.sel(strategy=["passive", "anfis"]).values)
     return fig
 
 
 def tracked_frequency_figure(ds: xr.Dataset, case: str, axis: str = "z"):
-    """Fig. 12 analogue: the dominant frequency of the input chosen at every update."""
+    """Fig. 12 analogue: the dominant frequency of the input chosen at every update.
+
+    Updates without an estimate (NaN: not enough signal yet) are marked on the time axis; the title says how
+    many there are."""
     fig, ax = plt.subplots(figsize=(8, 3.4), constrained_layout=True)
     freq = ds.tracked_freq.sel(case=case, axis=axis)
-    ax.plot(ds.update_time, freq, "o-", color="tab:blue", label=f"{axis.upper()}, tracked every update")
+    ax.plot(ds.update_time, freq, "o-", color="tab:blue", label="estimate")
+    missing = ~np.isfinite(freq.values)
+    if missing.any():
+        ax.plot(
+            ds.update_time.values[missing],
+            np.full(missing.sum(), 0.0),
+            "x",
+            color="tab:red",
+            transform=ax.get_xaxis_transform(),
+            clip_on=False,
+            label="no estimate (NaN)",
+        )
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
+    note = (
+        f"{int(missing.sum())} of {missing.size} updates without an estimate"
+        if missing.any()
+        else "an estimate at every update"
+    )
     ax.set(
         xlabel="time (s)",
         ylabel="dominant frequency (Hz)",
-        title=f"{case}: dominant {axis.upper()} frequency seen by the controller (NaN before enough signal)",
+        xlim=(0, float(ds.update_time.max()) * 1.03),
+        title=f"{case}: dominant {axis.upper()} frequency tracked by the controller ({note})",
     )
-    ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return fig
 
 
-def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 3.0):
-    """Every strategy side by side for one case: camera y and z and C(t) per stiffness, and the metrics."""
+def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 2.0, early_s: float = 0.5):
+    """Every strategy side by side for one case: camera y and z and C(t) per stiffness, and the metrics.
+
+    Camera displacements are drawn from their value at t = 0 (the input's offset). A law switching faster than
+    FAST_SWITCHING_PER_S is drawn as its running mean over MEAN_WINDOW_S, so it does not hide the others. One
+    legend (strategies) and one key (bars) beside the panels."""
+    names = [str(s) for s in ds.strategy.values]
     n_k = ds.sizes["stiffness"]
-    fig, axes = plt.subplots(n_k, 4, figsize=(18, 3.4 * n_k), constrained_layout=True, squeeze=False)
-    part = ds.sel(case=case, time=slice(0, window_s))
+    fig, axes = plt.subplots(
+        n_k, 4, figsize=(16, 3.2 * n_k + 0.9), layout="constrained", squeeze=False, width_ratios=[1.2, 1.2, 1, 1]
+    )
+    full = ds.sel(case=case)
+    part = full.sel(time=slice(0, window_s))
+    time = part.time.values
+    averaged = set()
     for row, k in enumerate(ds.stiffness.values):
         for col, axis in enumerate(("y", "z")):
             ax = axes[row, col]
-            for strategy in ds.strategy.values:
-                ax.plot(
-                    part.time,
-                    _mm(part.camera_displacement.sel(stiffness=k, strategy=strategy, axis=axis)),
-                    color=colour(str(strategy), ds.strategy.values),
-                    lw=0.9,
-                    label=str(strategy),
-                )
-            ax.set(xlabel="time (s)", ylabel=f"camera {axis.upper()} (mm)", title=f"K = {k:g} N/m, {axis.upper()}")
-            if row == 0 and col == 0:
-                ax.legend(fontsize=7)
+            moves = {s: _mm_from_start(part.camera_displacement.sel(stiffness=k, strategy=s, axis=axis)) for s in names}
+            for strategy, move in moves.items():
+                ax.plot(time, move, **_style(strategy, names))
+            title = f"{stiffness_label(k)}, {axis.upper()}"
+            isolated = [np.nanmax(np.abs(m)) for s, m in moves.items() if s != "rigid"]
+            if "rigid" in moves and isolated and np.nanmax(np.abs(moves["rigid"])) > 2.5 * max(isolated):
+                ax.set_ylim(-1.15 * max(isolated), 1.15 * max(isolated))  # the rigid mount's scale would hide them
+                title += " (rigid clipped)"
+            ax.set(ylabel=f"camera {axis.upper()} from start (mm)", title=title)
         ax = axes[row, 2]
-        for strategy in ds.strategy.values:
-            if strategy != "rigid":
-                ax.step(
-                    part.time,
-                    part.damping.sel(stiffness=k, strategy=strategy),
-                    where="post",
-                    color=colour(str(strategy), ds.strategy.values),
-                    lw=0.9,
-                    label=str(strategy),
-                )
-        ax.set(xlabel="time (s)", ylabel="C (N s/m)", title=f"K = {k:g} N/m: damping")
-        _damping_axis(ax, part.damping.sel(stiffness=k).values)
+        shown = []
+        for strategy in names:
+            damping = part.damping.sel(stiffness=k, strategy=strategy).values
+            if strategy == "rigid" or not np.isfinite(damping).any():
+                continue
+            if _fast_switching(time, damping):
+                averaged.add(strategy)
+                damping = _running_mean(time, damping, MEAN_WINDOW_S)
+                ax.plot(time, np.where(damping > 0, damping, np.nan), **_style(strategy, names))
+            else:
+                ax.step(time, damping, where="post", **_style(strategy, names))
+            shown.append(damping)
+        ax.set(ylabel="C (N s/m)", title=f"{stiffness_label(k)}: damping")
+        _damping_axis(ax, np.concatenate(shown) if shown else [])
         ax = axes[row, 3]
-        names = [str(s) for s in ds.strategy.values]
         x = np.arange(len(names))
-        std = 1e3 * np.sqrt((ds.std_total.sel(case=case, stiffness=k) ** 2).sum("axis")).values
-        peak = 1e3 * ds.peak_early.sel(case=case, stiffness=k).max("axis").values
-        ax.bar(x - 0.2, std, 0.4, label="std, whole run (y, z combined)")
-        ax.bar(x + 0.2, peak, 0.4, label="peak before 0.5 s (max over y, z)")
-        ax.set_xticks(x, names, rotation=30, fontsize=8)
-        ax.set(ylabel="mm", yscale="log", title=f"K = {k:g} N/m: metrics")
-        ax.legend(fontsize=7)
-    fig.suptitle(f"{case}: all strategies", fontsize=12)
+        std = 1e3 * np.sqrt((full.std_total.sel(stiffness=k) ** 2).sum("axis")).values
+        peak = [
+            max(
+                early_peak(
+                    full.time.values, 1e3 * full.camera_displacement.sel(stiffness=k, strategy=s, axis=a), early_s
+                )[0]
+                for a in ("y", "z")
+            )
+            for s in names
+        ]
+        colours = [colour(s, names) for s in names]
+        ax.bar(x - 0.2, std, 0.4, color=colours)
+        ax.bar(x + 0.2, peak, 0.4, color=colours, hatch="///", edgecolor="w", lw=0)
+        ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
+        ax.set(ylabel="camera (mm)", yscale="log", title=f"{stiffness_label(k)}: metrics")
+        plain_log_ticks(ax)
+        ax.grid(True, axis="y", which="both", alpha=0.3)
+    for ax in axes[-1, :3]:
+        ax.set_xlabel("time (s)")
+    lines = [
+        Line2D(
+            [],
+            [],
+            **{**_style(s, names), "zorder": None},
+            label=s + (f" (mean over {MEAN_WINDOW_S:g} s)" if s in averaged else ""),
+        )
+        for s in names
+    ]
+    fig.legend(handles=lines, loc="outside right upper", fontsize=8, title="strategy", title_fontsize=8)
+    bars = [
+        Patch(facecolor="0.5", label="std, whole run\n(y, z combined)"),
+        Patch(facecolor="0.5", hatch="///", edgecolor="w", label=f"largest move\nbefore {early_s:g} s\n(max of y, z)"),
+    ]
+    fig.legend(handles=bars, loc="outside right lower", fontsize=8, title="metrics bars", title_fontsize=8)
+    fig.suptitle(f"{case}: all strategies (camera drawn from its position at t = 0)", fontsize=12)
     return fig
 
 
 def blur_distribution_figure(ds: xr.Dataset):
     """Box plots of the per-frame blur (pixels) per strategy: one panel per case and stiffness, log scale, with
-    the sharp-frame threshold (camera attrs of comparison.nc) as a dashed line."""
+    the sharp-frame threshold (camera attrs of comparison.nc) as a dashed line; medians black."""
     cases, stiffness = ds.case.values, ds.stiffness.values
     names = [str(s) for s in ds.strategy.values]
     fig, axes = plt.subplots(
         cases.size,
         stiffness.size,
-        figsize=(4.2 * stiffness.size, 3.4 * cases.size),
+        figsize=(4.2 * stiffness.size, 3.4 * cases.size + 0.4),
         squeeze=False,
         sharey=True,
-        constrained_layout=True,
+        layout="constrained",
     )
     threshold = ds.attrs.get("camera_sharp_threshold_px")
     for i, case in enumerate(cases):
@@ -168,34 +292,46 @@ def blur_distribution_figure(ds: xr.Dataset):
             ax = axes[i, j]
             blur = ds.frame_blur.sel(case=case, stiffness=k)
             data = [blur.sel(strategy=s).values[np.isfinite(blur.sel(strategy=s).values)] for s in names]
-            box = ax.boxplot(data, whis=(5, 95), showfliers=True, patch_artist=True, flierprops={"markersize": 2})
+            box = ax.boxplot(
+                data,
+                whis=(5, 95),
+                showfliers=True,
+                patch_artist=True,
+                flierprops={"markersize": 2},
+                medianprops={"color": "k", "lw": 1.6},
+            )
             for patch, name in zip(box["boxes"], names, strict=True):
                 patch.set_facecolor(colour(name, names))
                 patch.set_alpha(0.6)
             if threshold is not None:
-                ax.axhline(float(threshold), color="k", ls="--", lw=0.8, label=f"sharp: <= {float(threshold):g} px")
-                ax.legend(fontsize=7, loc="upper right")
-            ax.set_xticks(np.arange(1, len(names) + 1), names, rotation=30, fontsize=8)
-            ax.set(yscale="log", title=f"{case}, K = {k:g} N/m", ylabel="blur per frame (px)" if j == 0 else None)
+                ax.axhline(float(threshold), color="k", ls="--", lw=0.8)
+            ax.set_xticks(np.arange(1, len(names) + 1), names, rotation=30, ha="right", fontsize=8)
+            ax.set(
+                yscale="log", title=f"{case}, {stiffness_label(k)}", ylabel="blur per frame (px)" if j == 0 else None
+            )
             ax.grid(True, axis="y", which="both", alpha=0.3)
-    fig.suptitle("Image blur per frame (whiskers: 5th-95th percentile)", fontsize=11)
+    handles = [Line2D([], [], color="k", lw=1.6, label="median")]
+    if threshold is not None:
+        handles.append(Line2D([], [], color="k", ls="--", lw=0.8, label=f"sharp: <= {float(threshold):g} px"))
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
+    fig.suptitle("Image blur per frame (boxes: quartiles; whiskers: 5th-95th percentile)", fontsize=11)
     return fig
 
 
 def sharp_fraction_figure(ds: xr.Dataset):
-    """The fraction of sharp frames per strategy: grouped bars per case and stiffness."""
+    """The fraction of sharp frames per strategy: grouped bars per case and stiffness, the legend beside."""
     names = [str(s) for s in ds.strategy.values]
     groups = [(str(c), float(k)) for c in ds.case.values for k in ds.stiffness.values]
-    fig, ax = plt.subplots(figsize=(1.6 + 1.3 * len(groups) * len(names) / 4, 3.8), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(2.8 + 1.3 * len(groups) * len(names) / 4, 3.8), layout="constrained")
     width = 0.8 / len(names)
     x = np.arange(len(groups))
     for n, name in enumerate(names):
         values = [float(ds.sharp_fraction.sel(case=c, stiffness=k, strategy=name)) for c, k in groups]
         ax.bar(x - 0.4 + (n + 0.5) * width, values, width, color=colour(name, names), label=name)
-    ax.set_xticks(x, [f"{c}\nK = {k:g} N/m" for c, k in groups], fontsize=8)
+    ax.set_xticks(x, [f"{c}\n{stiffness_label(k)}" for c, k in groups], fontsize=8)
     threshold = ds.attrs.get("camera_sharp_threshold_px")
     rule = f"blur <= {float(threshold):g} px" if threshold is not None else "sharp"
-    ax.set(ylim=(0, 1.05), ylabel=f"fraction of frames with {rule}", title="Sharp frames per strategy")
-    ax.legend(fontsize=8, ncols=min(len(names), 5))
+    ax.set(ylim=(0, 1.05), ylabel=f"fraction of frames with {rule} (1)", title="Sharp frames per strategy")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(True, axis="y", alpha=0.3)
     return fig

@@ -24,12 +24,12 @@ import numpy as np
 import xarray as xr
 
 from uavdamp.camera import CameraModel
-from uavdamp.image_quality import frame_metrics
+from uavdamp.image_quality import frame_metrics, pixel_attrs
 
 CRITERIA = {
     "displacement": {"units": "m", "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) over the window"},
     "line_of_sight": {"units": "rad", "long_name": "line-of-sight jitter sqrt(var yaw + var pitch) over the window"},
-    "blur": {"units": "1", "long_name": "95th percentile over the window's frames of the image blur (pixels)"},
+    "blur": pixel_attrs("95th percentile over the window's frames of the image blur, in pixels"),
 }
 CRITERION_ATTRS = CRITERIA["displacement"]
 WINDOW_ATTRS = {"units": "1", "long_name": "criterion time window (reference_table.windows)"}

@@ -15,6 +15,7 @@ import xarray as xr
 from threadpoolctl import threadpool_limits
 
 from uavdamp.contract import SolverFailed
+from uavdamp.image_quality import PIXEL_COMMENT
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import chunks
 from uavdamp.reference_table import criteria as crit
@@ -107,7 +108,7 @@ def verify(
             data[f"verify_{name}_{plant}"] = (
                 ("verify", "window"),
                 values[:, j],
-                {"units": crit.CRITERIA[name]["units"], "long_name": f"{name} criterion, {plant} plant"},
+                {**crit.CRITERIA[name], "long_name": f"{name} criterion, {plant} plant{_in_pixels(name)}"},
             )
     coords = {
         "criterion": (
@@ -119,6 +120,11 @@ def verify(
     }
     tolerance = json.dumps(check.tolerance, sort_keys=True)
     return xr.Dataset(data, coords=coords, attrs={"verify_seed": check.seed, "verify_tolerance": tolerance})
+
+
+def _in_pixels(name: str) -> str:
+    """ ", in pixels" for a criterion measured in pixels (`image_quality.pixel_attrs`), else ""."""
+    return ", in pixels" if crit.CRITERIA[name].get("comment") == PIXEL_COMMENT else ""
 
 
 def check_verification(spec: GridSpec, checked: xr.Dataset, tolerance: float | dict) -> None:
