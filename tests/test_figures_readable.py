@@ -73,25 +73,22 @@ def plot_function_figures(run: Path):
     bench = io.open_dataset(reports / "benchmark/criteria.nc")
     yield "benchmark_criteria", benchmark.criteria_figure(bench)
     yield "benchmark_boxplots", benchmark.boxplot_figure(bench)
-    yield "platform_response", platform.response_figure(*synthetic_platform_runs())
+    yield "platform_response", platform.response_figure(*platform_runs())
 
 
-def synthetic_platform_runs():
-    t = np.arange(0, 1, 1e-3)
-    mount = 1e-3 * np.stack([np.sin(2 * np.pi * 7 * t), np.sin(2 * np.pi * 8 * t)])
+def platform_runs():
+    """A rigid and an isolated run of the real plant (the platform stage's own inputs, 1 s), and the modes."""
+    from conftest import platform_params
 
-    def response(gain):
-        return xr.Dataset(
-            {
-                "mount_displacement": (("axis", "time"), mount),
-                "camera_displacement": (("axis", "time"), gain * mount),
-                "damping": ("time", np.full(t.size, 2.0)),
-            },
-            coords={"axis": ["y", "z"], "time": t},
-            attrs={"isolator_stiffness_N_m": 10.0},
-        )
+    from uavdamp.excitation import sine_input
+    from uavdamp.laws import Constant
+    from uavdamp.platform import ExudynPlant
 
-    return response(1.5), response(0.1)
+    params = platform_params()
+    time, motion = sine_input(7.0, 8.0, 1.3e-3, 1.0, params.time_step)
+    rigid = ExudynPlant(params, mount="rigid").run(time, motion)
+    isolated = ExudynPlant(params).run(time, motion, stiffness=10.0, law=Constant(2.0))
+    return rigid, isolated
 
 
 def legends(fig):
@@ -236,11 +233,17 @@ def test_spectra_are_clipped_above_numerical_noise():
     spectrum[:, :, 44] = 1e-3
     ds = xr.Dataset(
         {
-            "displacement": (("rotor", "axis", "time"), np.zeros((2, 3, t.size))),
-            "amplitude_spectrum": (("rotor", "axis", "omega"), spectrum),
-            "dominant_omega": (("rotor", "axis"), np.full((2, 3), 44.0)),
+            "mount_displacement": (("rotor", "mount", "axis", "time"), np.zeros((2, 1, 3, t.size))),
+            "amplitude_spectrum": (("rotor", "mount", "axis", "omega"), spectrum[:, None]),
+            "dominant_omega": (("rotor", "mount", "axis"), np.full((2, 1, 3), 44.0)),
         },
-        coords={"rotor": ["imbalanced", "balanced"], "axis": ["x", "y", "z"], "time": t, "omega": omega},
+        coords={
+            "rotor": ["imbalanced", "balanced"],
+            "mount": ["cg"],
+            "axis": ["x", "y", "z"],
+            "time": t,
+            "omega": omega,
+        },
     )
     fig = helicopter.fuselage_vibration_figure(ds)
     try:
