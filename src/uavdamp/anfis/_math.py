@@ -10,16 +10,23 @@ from collections.abc import Sequence
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse
 
 ILL_CONDITIONED = 1e-10  # switch to SVD when the Cholesky pivots suggest cond(A^T A) above 1e10
 LSTSQ_RCOND = 1e-10  # singular values below this fraction of the largest are dropped
 
 
-def _incidence(rule_mf: np.ndarray, n_mf_total: int) -> np.ndarray:
-    """(rules, MFs) 0/1 matrix: entry (r, m) is 1 when rule r uses membership function m."""
-    inc = np.zeros((rule_mf.shape[0], n_mf_total))
-    np.put_along_axis(inc, rule_mf, 1.0, axis=1)
-    return inc
+def _incidence(rule_mf: np.ndarray, n_mf_total: int) -> scipy.sparse.csr_array:
+    """(rules, MFs) sparse 0/1 matrix: entry (r, m) is 1 when rule r uses membership function m.
+
+    Sparse (one entry per rule and input): a dense one costs rules x MFs per sample in every product, 65 times
+    more than needed for 65 clustered rules of 3 inputs.
+    """
+    n_rules, d = rule_mf.shape
+    order = np.sort(rule_mf, axis=1)  # ascending MF index in each row: the products sum input by input
+    return scipy.sparse.csr_array(
+        (np.ones(n_rules * d), order.ravel(), np.arange(0, n_rules * d + 1, d)), shape=(n_rules, n_mf_total)
+    )
 
 
 def _with_ones_row(X: np.ndarray) -> np.ndarray:
@@ -83,9 +90,9 @@ def _solve_consequents(w: np.ndarray, X1T: np.ndarray, y: np.ndarray, ridge: flo
     AT = (w[:, None, :] * X1T[None, :, :]).reshape(-1, n)
     if AT.shape[0] > n:  # more unknowns than rows: A^T A is singular (and needlessly large)
         return np.linalg.lstsq(AT.T, y, rcond=LSTSQ_RCOND)[0].reshape(n_rules, X1T.shape[0])
-    gram = AT @ AT.T
+    gram = scipy.linalg.blas.dsyrk(1.0, AT.T, trans=1)  # AT AT^T, upper triangle only (half the work of AT @ AT.T)
     gram.flat[:: gram.shape[0] + 1] += ridge * np.trace(gram) / gram.shape[0]
-    factor, p, info = scipy.linalg.lapack.dposv(gram, AT @ y)
+    factor, p, info = scipy.linalg.lapack.dposv(gram, AT @ y)  # reads the upper triangle
     pivots = np.abs(np.diag(factor))
     if info != 0 or pivots.min() ** 2 < ILL_CONDITIONED * pivots.max() ** 2:
         p = np.linalg.lstsq(AT.T, y, rcond=LSTSQ_RCOND)[0]
