@@ -25,6 +25,7 @@ import time
 
 import numpy as np
 import xarray as xr
+from threadpoolctl import threadpool_limits
 
 from uavdamp.anfis import baselines, model_selection
 from uavdamp.anfis.damping import INPUTS, DampingModel, Regret, regret
@@ -287,9 +288,10 @@ def train(
     table, grid = select_target(table, grid, target)
     X, y, dropped = table_samples(table)
     is_train = split(y.size, options.train_fraction, options.seed)
-    models, cv, times = _fit_models(X, y, is_train, options, grid, n_jobs)
+    with threadpool_limits(limits=1):  # one thread per process, the parallelism is across fits (n_jobs)
+        models, cv, times = _fit_models(X, y, is_train, options, grid, n_jobs)
+        scores = _model_scores(models, X, y, is_train, grid)
     model = models["anfis"]
-    scores = _model_scores(models, X, y, is_train, grid)
     samples = _samples(table, X, y, is_train, scores)
     record = xr.merge(
         [_epoch_record(model.anfis, options.epoch_selection, options.validation_fraction), samples, scores, cv],
