@@ -22,6 +22,7 @@ import time
 import numpy as np
 import xarray as xr
 from joblib import Parallel, delayed, parallel_config
+from joblib.externals.loky import get_reusable_executor
 from sklearn.base import BaseEstimator, clone
 from sklearn.model_selection import KFold
 from threadpoolctl import threadpool_limits
@@ -35,13 +36,33 @@ def label(candidate: dict) -> str:
     return f"{candidate['init']} {rest}".strip()
 
 
-def run(tasks: list, n_jobs: int) -> list:
-    """[function(*args) for (function, args) in tasks], in order, on n_jobs loky workers (one thread each)."""
+def run(tasks: list, n_jobs: int, costs=None) -> list:
+    """[function(*args) for (function, args) in tasks], in order, on n_jobs loky workers (one thread each).
+
+    ``costs`` (one per task, any unit) only orders the work, costliest first (so the longest tasks do not end the
+    run on one worker): the results come back in the tasks' order whatever the order of work or n_jobs.
+    """
+    order = np.argsort(-np.asarray(costs, float), kind="stable") if costs is not None else np.arange(len(tasks))
     if n_jobs == 1 or len(tasks) <= 1:
         with threadpool_limits(limits=1):
-            return [function(*args) for function, args in tasks]
-    with parallel_config(backend="loky", inner_max_num_threads=1):
-        return Parallel(n_jobs=n_jobs)(delayed(function)(*args) for function, args in tasks)
+            done = [tasks[k][0](*tasks[k][1]) for k in order]
+    else:
+        with parallel_config(backend="loky", inner_max_num_threads=1):
+            done = Parallel(n_jobs=n_jobs)(delayed(tasks[k][0])(*tasks[k][1]) for k in order)
+        get_reusable_executor().shutdown(wait=True)  # no workers left behind by the job
+    out = [None] * len(tasks)
+    for k, result in zip(order, done, strict=True):
+        out[k] = result
+    return out
+
+
+def cost(candidate: dict, n_inputs: int) -> float:
+    """A rough size of a candidate's fit (its expected rules), to order the work; subtractive: ~2 / radius^d."""
+    if candidate["init"] == "grid":
+        return float(candidate["n_mfs"]) ** n_inputs
+    if candidate["init"] == "fcm":
+        return float(candidate["n_rules"])
+    return 2.0 / float(candidate["radius"]) ** n_inputs
 
 
 def splits(n: int, folds: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -149,7 +170,8 @@ def cross_validate(
 ) -> tuple[dict, xr.Dataset, np.ndarray]:
     """k-fold CV RMSE of every candidate on (X, y); the chosen candidate, the record, mean fit seconds."""
     parts = splits(len(y), folds, seed)
-    out = run(fold_tasks(estimator, X, y, candidates, parts), n_jobs)
+    costs = [cost(c, X.shape[1]) for c in candidates for _ in parts]
+    out = run(fold_tasks(estimator, X, y, candidates, parts), n_jobs, costs)
     results = [
         (np.sqrt(np.mean((pred - y[test]) ** 2)), rules, t)
         for (pred, rules, t), (_, test) in zip(out, parts * len(candidates), strict=True)

@@ -107,7 +107,9 @@ def _fit_models(X, y, is_train, options: AnfisOptions, grid, n_jobs: int):
     tasks += [
         (_fit_baseline, (DampingModel.unfitted(options, baselines.make(n, 3, options.seed)), Xt, yt)) for n in names
     ]
-    out = model_selection.run(tasks, n_jobs)
+    costs = [model_selection.cost(c, X.shape[1]) for c in candidates for _ in folds]
+    costs += [baselines.COSTS[n] for n in names]
+    out = model_selection.run(tasks, n_jobs, costs)
     cv_out, fitted = out[: -len(names) or None], out[len(out) - len(names) :]
     scores = [
         (np.sqrt(np.mean((p - target[t]) ** 2)), r, s)
