@@ -4,7 +4,8 @@ often it fires on the reference table's cells, as a Markdown table (``rules_mark
 Units: f_y and f_z as the centre and width sigma of the Gaussian in Hz; K in N/m even when learnt as log10 K:
 a Gaussian in log10 K of centre c and width s is centred on 10^c N/m and spans the factor 10^s either side
 (its one-sigma band 10^(c - s) to 10^(c + s) N/m). The consequent is printed as learnt (log10 C where
-``log_damping``), with C in N s/m at the rule's centre beside it.
+``log_damping``), with C in N s/m at the rule's centre (clamped to the training range, as ``predict`` does) beside
+it.
 
 Firing, on the cells given (the table's): the share of cells where the rule has the largest firing strength, and
 its mean normalised firing strength w_r / sum_s w_s (the share of the model's output the rule carries).
@@ -53,7 +54,7 @@ def _heading(model: DampingModel, est: ANFIS) -> list[str]:
     k_unit = "N/m: centre (one-sigma band; learnt as log10 K)" if model.log_stiffness else "N/m: centre ± sigma"
     columns = ["f_y (Hz: centre ± sigma)", "f_z (Hz: centre ± sigma)", f"K ({k_unit})"]
     return [
-        "| rule | " + " | ".join(columns) + f" | THEN {est.output_name} = | C at the centre (N s/m) "
+        "| rule | " + " | ".join(columns) + f" | THEN {est.output_name} = | C at the centre (N s/m, in range) "
         "| strongest on (% of cells) | mean weight (%) |",
         "|" + "---|" * (len(columns) + 5),
     ]
@@ -64,7 +65,7 @@ def rules_markdown(model: DampingModel, cells: np.ndarray, title: str = "ANFIS r
     est = model.anfis
     w = firing_strengths(est, model.inputs(cells))
     strongest = np.bincount(np.argmax(w, axis=0), minlength=est.n_rules_) / w.shape[1]
-    centre_inputs = np.array([[est.centres_[m] for m in mfs] for mfs in est.rule_mf_])
+    centre_inputs = np.clip(est.centres_[est.rule_mf_], est.input_range_[:, 0], est.input_range_[:, 1])
     at_centre = model.damping((est.consequents_[:, :-1] * centre_inputs).sum(axis=1) + est.consequents_[:, -1])
     offsets = np.searchsorted(est.mf_input_, np.arange(est.n_features_in_))
     lines = [

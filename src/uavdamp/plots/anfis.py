@@ -49,7 +49,8 @@ def membership_figure(model):
     """Per input: the MFs after (solid) and before (dashed) training, and each MF's centre and width ordered by centre.
 
     ``model``: a DampingModel (K in N/m on a log axis where learnt as log10 K) or a bare ANFIS. No per-MF legend:
-    readable at 2 MFs and at 65."""
+    readable at 2 MFs and at 65. Grey: outside the training range (inputs are clamped to it), shown where a centre
+    left it."""
     from uavdamp.anfis.damping import DampingModel
 
     model = model if isinstance(model, DampingModel) else DampingModel(model, False, False)
@@ -66,11 +67,18 @@ def membership_figure(model):
         _curves(top, x, shown, *after[i], {"lw": 1.4, "color": "C0", "alpha": alpha})
         top.set(ylabel="membership", ylim=(0, 1.05), title=f"{label}: {count} MF{'s' if count > 1 else ''}")
         _ordered(bottom, model, i, after[i], before[i])
+        centres = np.concatenate([after[i][0], before[i][0]])
+        span = x[-1] - x[0]
+        lo, hi = min(x[0], centres.min() - 0.03 * span), max(x[-1], centres.max() + 0.03 * span)
         for ax in (top, bottom):
             ax.set_xlabel(label)
             if log:
                 ax.set_xscale("log")
-            ax.set_xlim(shown[0], shown[-1])
+            limits = (10**lo, 10**hi) if log else (lo, hi)
+            ax.set_xlim(*limits)
+            for a, b in ((limits[0], shown[0]), (shown[-1], limits[1])):  # outside the training range: clamped
+                if b > a:
+                    ax.axvspan(a, b, color="0.9", zorder=0)
     axes[0, 0].plot([], [], color="C0", label="trained")
     axes[0, 0].plot([], [], ls="--", color="0.55", label="initial")
     axes[0, 0].legend(fontsize=7, loc="lower left")
