@@ -301,3 +301,28 @@ def test_the_stage_gives_the_same_numbers_on_one_and_two_threads(quick_run, tmp_
         xr.testing.assert_equal(first, second)
         same = {k for k in first.attrs if k not in ("history", "command_line", "config_files")}  # provenance
         assert {k: first.attrs[k] for k in same} == {k: second.attrs[k] for k in same}, name
+
+
+def test_regret_is_numpys_interpolation_cell_by_cell():
+    """The vectorised regret equals np.interp in log C cell by cell, bit for bit: at grid dampings, between them,
+    outside them (clamped), and at cells with failed (NaN) points."""
+    table = smooth_table()
+    c = np.geomspace(0.1, 100, 9)
+    rng = np.random.default_rng(2)
+    crit = rng.uniform(1, 3, table.damping_opt.shape + (9,))
+    crit[0, 0, 0, [2, 5]] = np.nan
+    grid = xr.Dataset(
+        {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
+        coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
+    )
+    X, _, _ = learning.table_samples(table)
+    damping = np.concatenate([c[rng.integers(0, 9, 40)], rng.uniform(0.01, 300, len(X) - 40)])
+    expected = []
+    for (fy, fz, k), value in zip(X, damping, strict=True):
+        row = grid.criterion.sel(freq_y=fy, freq_z=fz, stiffness=k).values
+        ok = np.isfinite(row)
+        at = np.interp(np.log(np.clip(value, c[0], c[-1])), np.log(c)[ok], row[ok])
+        expected.append(at / np.nanmin(row))
+    np.testing.assert_array_equal(learning.regret(grid, X, damping), expected)
+    with pytest.raises(KeyError, match="freq_y = 3.3"):
+        learning.regret(grid, X[:1] + [0.3, 0, 0], damping[:1])

@@ -127,7 +127,7 @@ class Regret:
         for name, axis, values in zip(INPUTS, self.axes, np.asarray(X, float).T, strict=True):
             k = axis.get_indexer(values)
             if (k < 0).any():
-                raise KeyError(f"{name} = {values[k < 0][0]!r} is not a grid value")
+                raise KeyError(f"{name} = {float(values[k < 0][0]):g} is not a value of the grid")
             index.append(k)
         rows, best = self.criterion[tuple(index)], self.optimum[tuple(index)]
         log_c = np.log(np.clip(damping, self.damping[0], self.damping[-1]))
