@@ -250,7 +250,11 @@ ANFIS_OPTIONS = {
     "epoch_selection": "validation",
     "validation_fraction": 0.2,
     "baselines": ["linear", "knn"],
-    "selection": {"folds": 3, "candidates": [{"init": "grid", "n_mfs": 2}, {"init": "subtractive", "radius": 0.5}]},
+    "selection": {
+        "folds": 3,
+        "rule": "one_se",
+        "candidates": [{"init": "grid", "n_mfs": 2}, {"init": "subtractive", "radius": 0.5}],
+    },
 }
 
 

@@ -13,6 +13,7 @@ from conftest import anfis_options
 from sklearn.exceptions import NotFittedError
 from sklearn.linear_model import LinearRegression
 
+from uavdamp import io
 from uavdamp.anfis import ANFIS, DampingModel
 from uavdamp.anfis.fis import from_fis, to_fis
 
@@ -192,6 +193,22 @@ def test_the_file_alone_predicts_the_model_inside_the_ranges(table_model):
     expected = plain_sugeno(text, learnt(X))
     np.testing.assert_allclose(table_model.predict_target(X), expected, rtol=RTOL, atol=0)
     np.testing.assert_allclose(table_model.predict(X), 10**expected, rtol=RTOL, atol=0)
+
+
+def test_the_stage_writes_a_fis_that_evaluates_like_its_model(quick_run):
+    """reports-quick/anfis/model.fis, as the quick run wrote it: read back it predicts model.nc's model bit for bit on
+    every table cell, and the plain evaluator here (no uavdamp code) agrees on the cells clamped to its Ranges."""
+    out = quick_run / "reports-quick/anfis"
+    text = (out / "model.fis").read_text()
+    model = DampingModel.from_dataset(io.open_dataset(out / "model.nc"))
+    record = io.open_dataset(out / "training.nc")
+    X = np.column_stack([record[name].values for name in ("freq_y", "freq_z", "stiffness")])
+    np.testing.assert_array_equal(from_fis(text).predict(X), model.predict(X))
+    fis = parse_fis(text)
+    assert int(fis["System"]["NumRules"]) == model.anfis.n_rules_ == record.attrs["n_rules"]
+    ranges = np.array([numbers(fis[f"Input{i}"]["Range"]) for i in (1, 2, 3)])
+    clamped = np.clip(learnt(X), ranges[:, 0], ranges[:, 1])
+    np.testing.assert_allclose(10 ** plain_sugeno(text, clamped), model.predict(X), rtol=RTOL, atol=0)
 
 
 def test_outside_the_ranges_the_file_user_must_clamp(table_model):

@@ -3,14 +3,17 @@ training rows, baselines, the training record."""
 
 from __future__ import annotations
 
+import shutil
+
 import numpy as np
 import pytest
 import xarray as xr
 from conftest import ANFIS_OPTIONS as OPTIONS
 from conftest import anfis_options as typed
+from conftest import copy_workflow, snakemake
 
 from uavdamp import io
-from uavdamp.anfis import baselines
+from uavdamp.anfis import baselines, model_selection
 from uavdamp.anfis import training as learning
 
 
@@ -63,11 +66,79 @@ def test_training_record_and_fit_quality():
     # every candidate's CV error, every model's checking error; fit times apart from the record
     assert list(record.candidate_label.values) == ["grid n_mfs=2", "subtractive radius=0.5"]
     assert record.cv_rmse.shape == (2, 3) and record.attrs["cv_folds"] == 3
-    assert record.attrs["selected_candidate"] == record.candidate_label.values[np.argmin(record.cv_rmse_mean.values)]
+    mean, se, rules = record.cv_rmse_mean.values, record.cv_rmse_se.values, record.n_rules.values
+    np.testing.assert_allclose(se, record.cv_rmse.std("fold", ddof=1).values / np.sqrt(3), rtol=1e-15)
+    assert record.attrs["selection_rule"] == "one_se"
+    within = mean <= mean.min() + se[np.argmin(mean)]
+    assert rules[list(record.candidate_label.values).index(record.attrs["selected_candidate"])] == rules[within].min()
+    assert record.attrs["n_rules"] == model.anfis.n_rules_
     assert list(record.model.values) == ["anfis", "linear", "knn"]
     assert set(seconds) >= {"anfis", "linear", "knn"} and all(t >= 0 for t in seconds.values())
     for name in list(record.coords) + list(record.data_vars):
         assert {"units", "long_name"} <= set(record[name].attrs), name
+
+
+# A constructed score table, 4 folds: fold RMSEs, and the rules of each candidate's fold models.
+SCORES = {
+    "A, 64 rules": ([1.0, 1.2, 0.8, 1.0], 64),  # the best: mean 1, sample std sqrt(0.08 / 3), SE sqrt(0.08 / 3) / 2
+    "B, 8 rules": ([1.07, 1.07, 1.07, 1.07], 8),  # within 1 SE (1.07 < 1.0816)
+    "C, 4 rules": ([1.09, 1.09, 1.09, 1.09], 4),  # fewer rules, but just outside 1 SE (1.09 > 1.0816)
+    "D, 16 rules": ([1.05, 1.05, 1.05, 1.05], 16),  # within 1 SE, more rules than B
+}
+
+
+@pytest.mark.parametrize(("rule", "expected"), [("one_se", "B, 8 rules"), ("best", "A, 64 rules")])
+def test_one_se_rule_picks_the_smallest_candidate_within_one_standard_error(rule, expected):
+    candidates = [{"init": "fcm", "n_rules": k} for k in range(len(SCORES))]
+    results = [(rmse, rules, 0.1) for rmse_folds, rules in SCORES.values() for rmse in rmse_folds]
+    chosen, record, _ = model_selection.summarise(candidates, results, 4, rule)
+    assert list(SCORES)[chosen] == expected
+    threshold = 1.0 + np.sqrt(0.08 / 3) / 2  # closed form: best mean + its std over folds (ddof 1) / sqrt(4)
+    assert record.attrs["one_se_threshold"] == pytest.approx(threshold, rel=1e-14)
+    np.testing.assert_allclose(record.cv_rmse_se.values, [np.sqrt(0.08 / 3) / 2, 0, 0, 0], atol=1e-15)
+    assert record.attrs["best_cv_candidate"] == "fcm n_rules=0" and record.attrs["selection_rule"] == rule
+
+
+def test_one_se_ties_go_to_the_lower_error_then_the_earlier_candidate():
+    mean, se = np.array([1.0, 1.05, 1.04, 1.04]), np.array([0.1, 0.0, 0.0, 0.0])
+    assert model_selection.choose(mean, se, np.array([10, 4, 4, 4]), "one_se") == 2
+    assert model_selection.choose(mean, se, np.array([4, 4, 8, 8]), "one_se") == 0
+    with pytest.raises(ValueError, match="anfis.selection.rule"):
+        model_selection.choose(mean, se, np.ones(4), "smallest")
+
+
+def test_cv_record_has_each_candidates_regret_on_the_held_out_rows():
+    """cv_regret_mean/max: the regret of every training row predicted by the fold model that held it out."""
+    table = smooth_table()
+    c = np.geomspace(0.1, 100, 9)
+    crit = 1 + (np.log10(c)[None, None, None, :] - np.log10(table.damping_opt.values)[..., None]) ** 2
+    grid = xr.Dataset(
+        {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
+        coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
+    )
+    options = typed(OPTIONS)
+    _, record, _ = learning.train(table, grid, options)
+    X, y, _ = learning.table_samples(table)
+    is_train = learning.split(y.size, options.train_fraction, options.seed)
+    Xt, yt = X[is_train], y[is_train]
+    for k, candidate in enumerate(options.selection.candidates):
+        regret = np.empty(len(yt))
+        for fit, test in model_selection.splits(len(yt), 3, options.seed):
+            model = learning.DampingModel.unfitted(options)
+            model.estimator.set_params(**candidate.params())
+            regret[test] = learning.regret(grid, Xt[test], model.fit(Xt[fit], yt[fit]).predict(Xt[test]))
+        assert float(record.cv_regret_mean[k]) == pytest.approx(regret.mean(), rel=1e-12)
+        assert float(record.cv_regret_max[k]) == pytest.approx(regret.max(), rel=1e-12)
+    assert np.all(record.cv_regret_max.values >= record.cv_regret_mean.values) and np.all(record.cv_regret_mean >= 1)
+
+
+@pytest.mark.filterwarnings("ignore::sklearn.exceptions.ConvergenceWarning")  # the GP on a plane
+def test_results_do_not_depend_on_the_number_of_workers():
+    options = typed({**OPTIONS, "baselines": list(baselines.BASELINES)})
+    one = learning.train(smooth_table(), None, options, n_jobs=1)
+    two = learning.train(smooth_table(), None, options, n_jobs=2)
+    xr.testing.assert_identical(one[1], two[1])
+    xr.testing.assert_identical(one[0].to_dataset(), two[0].to_dataset())
 
 
 def test_cv_never_sees_the_checking_split():
@@ -141,14 +212,21 @@ def test_all_baselines_and_regret_per_model():
         ({"epoch_selection": "best"}, "anfis.epoch_selection"),
         ({"validation_fraction": 0.0}, "anfis.validation_fraction"),
         (
-            {"selection": {"folds": 3, "candidates": [{"init": "grid", "radius": 0.5}]}},
+            {"selection": {"folds": 3, "rule": "one_se", "candidates": [{"init": "grid", "radius": 0.5}]}},
             r"anfis.selection.candidates\[0\].n_mfs: init 'grid' takes 'n_mfs' only",
         ),
         (
-            {"selection": {"folds": 3, "candidates": [{"init": "fcm"}]}},
+            {"selection": {"folds": 3, "rule": "one_se", "candidates": [{"init": "fcm"}]}},
             r"candidates\[0\].n_rules: init 'fcm' takes 'n_rules'",
         ),
-        ({"selection": {"folds": 1, "candidates": [{"init": "grid", "n_mfs": 2}]}}, "anfis.selection.folds"),
+        (
+            {"selection": {"folds": 1, "rule": "one_se", "candidates": [{"init": "grid", "n_mfs": 2}]}},
+            "anfis.selection.folds",
+        ),
+        (
+            {"selection": {"folds": 3, "rule": "fewest", "candidates": [{"init": "grid", "n_mfs": 2}]}},
+            r"anfis.selection.rule: must be one of \['one_se', 'best'\], got 'fewest'",
+        ),
     ],
 )
 def test_bad_options_raise(change, match):
@@ -183,7 +261,7 @@ def test_training_is_deterministic():
         **OPTIONS,
         "epochs": 15,
         "baselines": ["linear", "knn", "hgb"],
-        "selection": {"folds": 3, "candidates": [{"init": "fcm", "n_rules": 3}]},
+        "selection": {"folds": 3, "rule": "one_se", "candidates": [{"init": "fcm", "n_rules": 3}]},
     }
     _, a, _ = learning.train(smooth_table(), None, typed(options))
     _, b, _ = learning.train(smooth_table(), None, typed(options))
@@ -198,5 +276,54 @@ def test_quick_stage_outputs(quick_run):
     assert record.sizes["epoch"] == 50 and np.all(record.regret.values >= 1 - 1e-12)
     rules = (quick_run / "reports-quick/anfis/rules.txt").read_text()
     assert rules.count("IF ") == model.anfis.n_rules_
+    table = [line.split("|")[1:-1] for line in (quick_run / "reports-quick/anfis/rules.md").read_text().splitlines()]
+    rows = [cells for cells in table if cells and cells[0].strip().isdigit()]
+    assert [int(cells[0]) for cells in rows] == list(range(1, model.anfis.n_rules_ + 1))
+    for column in (-2, -1):  # the strongest-rule shares and the mean weights (%), each summing to 100 over the rules
+        assert sum(float(cells[column]) for cells in rows) == pytest.approx(100, abs=0.05 * len(rows))
     for name in ("anfis_membership", "anfis_training", "anfis_selection"):
         assert (quick_run / f"reports-quick/figures/{name}.png").stat().st_size > 10_000
+
+
+def test_the_stage_gives_the_same_numbers_on_one_and_two_threads(quick_run, tmp_path):
+    """The quick run's anfis job ran on 2 threads; rerun alone on 1 thread, it writes the same model and record."""
+    work = copy_workflow(tmp_path)
+    shutil.copytree(quick_run / "reports-quick/reference_table", work / "reports-quick/reference_table")
+    for path in (work / "reports-quick").rglob("*.nc"):
+        path.touch()
+    target = "reports-quick/anfis/model.nc"
+    args = ("-j2", target, "--allowed-rules", "anfis", "--configfile", "config/quick.yaml", "--set-threads", "anfis=1")
+    result = snakemake(work, *args)
+    assert result.returncode == 0, result.stderr[-3000:]
+    logs = [(root / "reports-quick/logs/anfis.log").read_text() for root in (quick_run, work)]
+    assert "workers: 2" in logs[0] and "workers: 1" in logs[1]
+    for name in ("model.nc", "training.nc"):
+        first, second = (io.open_dataset(root / "reports-quick/anfis" / name) for root in (quick_run, work))
+        xr.testing.assert_equal(first, second)
+        same = {k for k in first.attrs if k not in ("history", "command_line", "config_files")}  # provenance
+        assert {k: first.attrs[k] for k in same} == {k: second.attrs[k] for k in same}, name
+
+
+def test_regret_is_numpys_interpolation_cell_by_cell():
+    """The vectorised regret equals np.interp in log C cell by cell, bit for bit: at grid dampings, between them,
+    outside them (clamped), and at cells with failed (NaN) points."""
+    table = smooth_table()
+    c = np.geomspace(0.1, 100, 9)
+    rng = np.random.default_rng(2)
+    crit = rng.uniform(1, 3, table.damping_opt.shape + (9,))
+    crit[0, 0, 0, [2, 5]] = np.nan
+    grid = xr.Dataset(
+        {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
+        coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
+    )
+    X, _, _ = learning.table_samples(table)
+    damping = np.concatenate([c[rng.integers(0, 9, 40)], rng.uniform(0.01, 300, len(X) - 40)])
+    expected = []
+    for (fy, fz, k), value in zip(X, damping, strict=True):
+        row = grid.criterion.sel(freq_y=fy, freq_z=fz, stiffness=k).values
+        ok = np.isfinite(row)
+        at = np.interp(np.log(np.clip(value, c[0], c[-1])), np.log(c)[ok], row[ok])
+        expected.append(at / np.nanmin(row))
+    np.testing.assert_array_equal(learning.regret(grid, X, damping), expected)
+    with pytest.raises(KeyError, match="freq_y = 3.3"):
+        learning.regret(grid, X[:1] + [0.3, 0, 0], damping[:1])

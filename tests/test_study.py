@@ -155,7 +155,7 @@ def test_html_report(quick_run):
     html = (quick_run / "reports-quick/report.html").read_text(errors="replace")
     figures = sorted(p.name for p in (quick_run / "reports-quick/figures").rglob("*.png"))
     assert len(figures) >= 12, figures
-    missing = [name for name in [*figures, "rules.txt"] if name not in html]
+    missing = [name for name in [*figures, "rules.md"] if name not in html]
     assert not missing, f"not in the report: {missing}"
     # captions are rendered from the config (Jinja), not hard-coded
     assert "passive damper (constant C = 2.0 N s/m)" in html

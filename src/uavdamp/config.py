@@ -7,7 +7,7 @@ class (`view` keeps exactly a class's keys), so the config means the same in the
 
 Sections (module: class): helicopter (`uavdamp.helicopter`: HelicopterSection), platform (`uavdamp.platform`:
 PlatformSection), reference_table (`uavdamp.reference_table`: ReferenceTableSection), anfis (`uavdamp.anfis`:
-AnfisOptions), study (`uavdamp.study`: StudySection), camera (`uavdamp.camera`: CameraModel), budget
+AnfisSection), study (`uavdamp.study`: StudySection), camera (`uavdamp.camera`: CameraModel), budget
 (`uavdamp.budget`: Budget), benchmark (`BenchmarkSection` here: the scenarios', the runs' and the split's views),
 flight_logs (`uavdamp.flight_log`: FlightLogSource per name).
 """
@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from uavdamp.anfis import AnfisOptions
+from uavdamp.anfis import AnfisSection
 from uavdamp.benchmark import BenchmarkOptions
 from uavdamp.budget import Budget
 from uavdamp.camera import CameraModel
@@ -51,7 +51,7 @@ class Config:
     helicopter: HelicopterSection
     platform: PlatformSection
     reference_table: ReferenceTableSection
-    anfis: AnfisOptions
+    anfis: AnfisSection
     study: StudySection
     camera: CameraModel
     budget: Budget

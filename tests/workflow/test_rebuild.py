@@ -18,6 +18,8 @@ OUTPUTS = [
     ("reference_table_chunk", "reports-quick/reference_table/chunks/2-of-3.nc"),
     ("reference_table", "reports-quick/reference_table/grid.nc"),
     ("anfis", "reports-quick/anfis/rules.txt"),
+    ("anfis", "reports-quick/anfis/rules.md"),
+    ("anfis", "reports-quick/anfis/model.fis"),
     ("anfis", "reports-quick/anfis/training.nc"),
     ("anfis", "reports-quick/figures/anfis_selection.png"),
     ("excitation", "reports-quick/excitation/cases.nc"),

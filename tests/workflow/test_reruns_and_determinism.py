@@ -107,6 +107,13 @@ def test_the_same_config_reruns_nothing(quick_run):
     assert planned_rules(quick_run, load_config("quick.yaml")) == set()
 
 
+def test_the_anfis_threads_rerun_nothing(quick_run):
+    """anfis.threads is the job's threads, not an option: the results do not depend on it."""
+    config = load_config("quick.yaml")
+    config["anfis"]["threads"] = 1
+    assert planned_rules(quick_run, config) == set()
+
+
 # attrs that record when and how fast a file was made, not what it holds
 PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall_time_s"}
 

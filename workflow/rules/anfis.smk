@@ -4,9 +4,11 @@ rule anfis:
         grid=f"{OUT}/reference_table/grid.nc",
     output:
         model=f"{OUT}/anfis/model.nc",
+        fis=f"{OUT}/anfis/model.fis",
         training=f"{OUT}/anfis/training.nc",
-        rules=report(
-            f"{OUT}/anfis/rules.txt",
+        rules=f"{OUT}/anfis/rules.txt",
+        table=report(
+            f"{OUT}/anfis/rules.md",
             caption="../report/anfis_rules.rst",
             category="ANFIS",
         ),
@@ -31,6 +33,7 @@ rule anfis:
         f"{OUT}/benchmarks/anfis.tsv"
     conda:
         ENV
+    threads: config["anfis"]["threads"]
     params:
         anfis=ANFIS,
         target=REFERENCE_TARGET,

@@ -40,17 +40,17 @@ Choices worth knowing (each is a guard):
   truncated-SVD solution is used (numpy ``lstsq``, singular values below 1e-10 of the largest
   dropped). An optional Tikhonov term ``ridge`` * mean(diag(A^T A)) (default 0) regularises the
   normal equations.
-* Threads. ``fit`` runs with one BLAS thread (threadpoolctl): numpy's and scipy's OpenBLAS pools
-  contend while the normal equations are formed and solved. Without that limit, default threads
-  were 1.2-26x slower than one thread for 27-64 rules on 1000-10000 rows (benchmarks/bench_anfis.py
-  on 2 shared cores); with it, the two are equal within timing noise.
+* Threads. ``fit`` (initialisation and epochs) runs with one BLAS thread (threadpoolctl): numpy's and
+  scipy's OpenBLAS pools contend while the normal equations are formed and solved. Without that limit,
+  default threads were 1.2-26x slower than one thread for 27-64 rules on 1000-10000 rows
+  (benchmarks/bench_anfis.py on 2 shared cores); with it, the two are equal within timing noise.
+  Parallelism is across fits instead (``uavdamp.anfis.model_selection.run``).
 
 No file I/O here: ``to_dataset`` / ``from_dataset`` convert to and from an ``xarray.Dataset``.
 """
 
 from __future__ import annotations
 
-import numbers
 import warnings
 from collections.abc import Sequence
 
@@ -63,6 +63,7 @@ from threadpoolctl import threadpool_limits
 
 from uavdamp.anfis import initialisation as anfis_init
 from uavdamp.anfis import netcdf as anfis_dataset
+from uavdamp.anfis._checks import _output_scaling, check_params
 from uavdamp.anfis._math import (
     _firing,
     _incidence,
@@ -75,38 +76,12 @@ from uavdamp.anfis._math import (
 
 __all__ = ["ANFIS", "EXPECTED_FAILED_CHECKS", "NotFittedError", "loss_and_gradient", "update_step_size"]
 
-INITS = ("grid", "fcm", "subtractive")
-MAX_RULES = 4096
 
 # scikit-learn estimator checks this estimator does not meet (name -> reason), for
 # check_estimator(expected_failed_checks=...). Empty: with scikit-learn 1.9 every check passes
 # (tests/test_anfis.py runs them). A grid init on the checks' 10-feature data has 2^10 rules per
 # 2 MFs: that is slow (about 4 min for the default ANFIS()), not failing.
 EXPECTED_FAILED_CHECKS: dict[str, str] = {}
-
-
-# ---------------------------------------------------------------------------------------------
-# Argument checks
-
-
-def _is_int(value) -> bool:
-    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
-
-
-def _is_real(value) -> bool:
-    return isinstance(value, numbers.Real) and not isinstance(value, bool) and np.isfinite(value)
-
-
-def _output_scaling(y: np.ndarray, name: str) -> tuple[float, float]:
-    """(offset, scale): the output's mid-range and half-range (1 for a constant output)."""
-    lo, hi = float(y.min()), float(y.max())
-    half = 0.5 * hi - 0.5 * lo  # halves first: the difference of two large finite values may overflow
-    if not np.isfinite(2.0 * half):
-        raise ValueError(
-            f"{name} spans [{lo:g}, {hi:g}]: its range is not a finite float64, so the model cannot be fitted; "
-            "rescale the target"
-        )
-    return 0.5 * lo + 0.5 * hi, (half if half > 0 else 1.0)
 
 
 class ANFIS(RegressorMixin, BaseEstimator):
@@ -189,73 +164,6 @@ class ANFIS(RegressorMixin, BaseEstimator):
         tags.non_deterministic = False  # seeded: identical numbers on two fits
         return tags
 
-    # -- argument checks -----------------------------------------------------------------------
-
-    def _check_structure(self, n_inputs: int, n_samples: int) -> list[int]:
-        """Validate init, n_mfs, n_rules and radius; return MFs per input (grid) or []."""
-        if not isinstance(self.init, str) or self.init not in INITS:
-            raise ValueError(f"init must be one of {', '.join(INITS)}, got {self.init!r}")
-        if self.init == "grid":
-            n_mfs = [self.n_mfs] * n_inputs if _is_int(self.n_mfs) else self.n_mfs
-            if (
-                isinstance(n_mfs, (str, bytes))
-                or not isinstance(n_mfs, (Sequence, np.ndarray))
-                or len(n_mfs) != n_inputs
-                or not all(_is_int(m) and m >= 1 for m in n_mfs)
-            ):
-                raise ValueError(f"n_mfs must be a positive int or {n_inputs} positive ints, got {self.n_mfs!r}")
-            n_mfs = [int(m) for m in n_mfs]
-            if np.prod(n_mfs, dtype=float) > MAX_RULES:
-                raise ValueError(
-                    f"n_mfs={self.n_mfs!r} gives more than {MAX_RULES} grid rules; use init='subtractive' or 'fcm'"
-                )
-            return n_mfs
-        if self.init == "fcm" and not (_is_int(self.n_rules) and 1 <= self.n_rules <= n_samples):
-            raise ValueError(
-                f"n_rules must be an int between 1 and the number of samples (n_samples={n_samples}) "
-                f"for init='fcm', got {self.n_rules!r}"
-            )
-        if self.init == "subtractive" and not (_is_real(self.radius) and 0 < self.radius <= 1):
-            raise ValueError(f"radius must be a number in (0, 1] for init='subtractive', got {self.radius!r}")
-        return []
-
-    def _check_params(self, n_inputs: int, n_samples: int) -> list[int]:
-        """Validate the constructor arguments for data with n_inputs columns; return MFs per input."""
-        n_mfs = self._check_structure(n_inputs, n_samples)
-        if not (_is_int(self.epochs) and self.epochs >= 1):
-            raise ValueError(f"epochs must be an int >= 1, got {self.epochs!r}")
-        checks = [
-            ("error_goal", lambda v: v >= 0, ">= 0"),
-            ("step_size", lambda v: v > 0, "> 0"),
-            ("step_increase", lambda v: v > 1, "> 1"),
-            ("step_decrease", lambda v: 0 < v < 1, "in (0, 1)"),
-            ("min_sigma_frac", lambda v: 0 < v <= 1, "in (0, 1]"),
-            ("ridge", lambda v: v >= 0, ">= 0"),
-            ("validation_fraction", lambda v: 0 <= v < 1, "in [0, 1)"),
-        ]
-        for name, ok, text in checks:
-            value = getattr(self, name)
-            if not (_is_real(value) and ok(value)):
-                raise ValueError(f"{name} must be a finite number {text}, got {value!r}")
-        if self.random_state is not None and not (_is_int(self.random_state) and self.random_state >= 0):
-            raise ValueError(f"random_state must be None or an int >= 0, got {self.random_state!r}")
-        for name in ("input_names", "input_units"):
-            value = getattr(self, name)
-            if value is not None and (
-                isinstance(value, str)
-                or not isinstance(value, Sequence)
-                or len(value) != n_inputs
-                or not all(isinstance(v, str) for v in value)
-            ):
-                raise ValueError(f"{name} must be None or {n_inputs} strings (one per input), got {value!r}")
-        if self.input_names is not None and (len(set(self.input_names)) != n_inputs or "" in self.input_names):
-            raise ValueError(f"input_names must be distinct non-empty strings, got {self.input_names!r}")
-        if not (isinstance(self.output_name, str) and self.output_name):
-            raise ValueError(f"output_name must be a non-empty string, got {self.output_name!r}")
-        if not isinstance(self.output_units, str):
-            raise ValueError(f"output_units must be a string, got {self.output_units!r}")
-        return n_mfs
-
     def _validation_split(self, X, y, X_val, y_val, rng: np.random.Generator):
         """(X, y, X_val, y_val): the given validation data, or validation_fraction of the rows, or none."""
         if (X_val is None) != (y_val is None):
@@ -295,7 +203,7 @@ class ANFIS(RegressorMixin, BaseEstimator):
         """
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64)
         n, d = X.shape
-        n_mfs = self._check_params(d, n)
+        n_mfs = check_params(self, d, n)
         rng = np.random.default_rng(self.random_state)
         X, y, X_val, y_val = self._validation_split(X, y, X_val, y_val, rng)
         names = list(self.input_names) if self.input_names is not None else [f"x{i + 1}" for i in range(d)]
@@ -315,12 +223,12 @@ class ANFIS(RegressorMixin, BaseEstimator):
         span_s = span / scale  # 1, or 0 for a constant input
         y_off, y_scale = _output_scaling(y, "y")
         Xs, ys = (X - lo) / scale, (y - y_off) / y_scale
-        c, s, mf_input, rule_mf = self._initial_rules(Xs, ys, span_s, n_mfs, rng)
-        s = np.maximum(s, self.min_sigma_frac)
         val = None
         if X_val is not None:
             val = (_with_ones_row(np.clip((X_val - lo) / scale, 0.0, span_s)), (y_val - y_off) / y_scale)
         with threadpool_limits(limits=1, user_api="blas"):
+            c, s, mf_input, rule_mf = self._initial_rules(Xs, ys, span_s, n_mfs, rng)
+            s = np.maximum(s, self.min_sigma_frac)
             best, train_rmse, val_rmse, steps = self._train(
                 _with_ones_row(Xs), ys, val, c, s, mf_input, rule_mf, self.error_goal / y_scale
             )

@@ -55,8 +55,9 @@ import re
 
 import numpy as np
 
+from uavdamp.anfis._math import _incidence
+from uavdamp.anfis.damping import DampingModel
 from uavdamp.anfis.estimator import ANFIS
-from uavdamp.anfis.training import DampingModel
 
 __all__ = ["to_fis", "from_fis"]
 
@@ -385,7 +386,5 @@ def from_fis(text: str) -> DampingModel:
     est.consequents_ = consequents[rules[:, -1]]
     est.train_rmse_, est.val_rmse_, est.step_sizes_ = np.array([]), np.array([]), np.array([])
     est.best_epoch_ = 0
-    incidence = np.zeros((n_rules, est.centres_.size))  # as ANFIS.from_dataset: rule x MF 0/1 matrix
-    np.put_along_axis(incidence, est.rule_mf_, 1.0, axis=1)
-    est._incidence_ = incidence
+    est._incidence_ = _incidence(est.rule_mf_, est.centres_.size)  # as ANFIS.from_dataset
     return DampingModel(est, d >= 3 and fis_names[2].startswith(LOG), out_name.startswith(LOG))

@@ -1,19 +1,33 @@
-"""Choosing the ANFIS structure by k-fold cross-validation (scikit-learn GridSearchCV, seeded KFold).
+"""Choosing the ANFIS structure by k-fold cross-validation (seeded KFold), the accuracy-size trade on purpose.
 
 A candidate is a small dict of ANFIS structure parameters, e.g. ``{"init": "grid", "n_mfs": 3}``,
 ``{"init": "fcm", "n_rules": 4}`` or ``{"init": "subtractive", "radius": 0.5}``; every other
 parameter comes from the estimator passed in. The caller passes the training rows only: whatever
 is held out for checking never reaches this module.
+
+Every (candidate, fold) fit is independent: ``run`` spreads them (and any other task of the caller's,
+such as the baselines) over joblib's loky workers with one BLAS/OpenMP thread each, and in-process
+with one BLAS thread when ``n_jobs`` is 1, so the numbers do not depend on the thread count.
+
+``choose``: with rule ``best`` the lowest mean fold RMSE; with ``one_se`` (Breiman et al. 1984, Hastie et al.
+2009 sec. 7.10) the candidate with the fewest rules whose mean RMSE is at most the lowest mean plus that
+candidate's standard error (sample std over folds / sqrt(folds)); ties: the lower mean RMSE, then the earlier.
 """
 
 from __future__ import annotations
 
 import json
+import time
 
 import numpy as np
 import xarray as xr
-from sklearn.base import BaseEstimator
-from sklearn.model_selection import GridSearchCV, KFold
+from joblib import Parallel, delayed, parallel_config
+from joblib.externals.loky import get_reusable_executor
+from sklearn.base import BaseEstimator, clone
+from sklearn.model_selection import KFold
+from threadpoolctl import threadpool_limits
+
+RULES = ("one_se", "best")
 
 
 def label(candidate: dict) -> str:
@@ -22,67 +36,146 @@ def label(candidate: dict) -> str:
     return f"{candidate['init']} {rest}".strip()
 
 
-def cross_validate(
-    estimator: BaseEstimator, X: np.ndarray, y: np.ndarray, candidates: list[dict], folds: int, seed: int
-) -> tuple[dict, xr.Dataset, np.ndarray]:
-    """k-fold CV RMSE of every candidate on (X, y); returns the best candidate, the record, fit times.
+def run(tasks: list, n_jobs: int, costs=None) -> list:
+    """[function(*args) for (function, args) in tasks], in order, on n_jobs loky workers (one thread each).
 
-    Folds: ``KFold(folds, shuffle=True, random_state=seed)``, the same for every candidate. The
-    best candidate has the lowest mean fold RMSE (ties: the earlier candidate). The record has
-    ``cv_rmse`` (candidate, fold) and its mean and standard deviation, in the units of y; the
-    mean fit time per candidate (s) is returned apart, as it differs between runs.
+    ``costs`` (one per task, any unit) only orders the work, costliest first (so the longest tasks do not end the
+    run on one worker): the results come back in the tasks' order whatever the order of work or n_jobs.
     """
-    if not (isinstance(folds, int) and 2 <= folds <= len(y)):
-        raise ValueError(f"anfis.selection.folds: must be an int between 2 and the {len(y)} training rows, got {folds}")
-    grid = [{k: [v] for k, v in c.items()} for c in candidates]
-    search = GridSearchCV(
-        estimator,
-        grid,
-        scoring="neg_root_mean_squared_error",
-        cv=KFold(folds, shuffle=True, random_state=seed),
-        refit=False,
-        error_score="raise",
-    )
-    search.fit(X, y)
-    res = search.cv_results_
-    # GridSearchCV orders the results by its own parameter grid: map them back to our candidates
-    order = [next(j for j, p in enumerate(res["params"]) if p == c) for c in candidates]
-    rmse = -np.array([[res[f"split{f}_test_score"][j] for f in range(folds)] for j in order])
-    mean = rmse.mean(axis=1)
+    order = np.argsort(-np.asarray(costs, float), kind="stable") if costs is not None else np.arange(len(tasks))
+    if n_jobs == 1 or len(tasks) <= 1:
+        with threadpool_limits(limits=1):
+            done = [tasks[k][0](*tasks[k][1]) for k in order]
+    else:
+        with parallel_config(backend="loky", inner_max_num_threads=1):
+            done = Parallel(n_jobs=n_jobs)(delayed(tasks[k][0])(*tasks[k][1]) for k in order)
+        get_reusable_executor().shutdown(wait=True)  # no workers left behind by the job
+    out = [None] * len(tasks)
+    for k, result in zip(order, done, strict=True):
+        out[k] = result
+    return out
+
+
+def cost(candidate: dict, n_inputs: int) -> float:
+    """A rough size of a candidate's fit (its expected rules), to order the work; subtractive: ~2 / radius^d."""
+    if candidate["init"] == "grid":
+        return float(candidate["n_mfs"]) ** n_inputs
+    if candidate["init"] == "fcm":
+        return float(candidate["n_rules"])
+    return 2.0 / float(candidate["radius"]) ** n_inputs
+
+
+def splits(n: int, folds: int, seed: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(fit rows, held-out rows) of each fold: ``KFold(folds, shuffle=True, random_state=seed)``."""
+    if not (isinstance(folds, int) and 2 <= folds <= n):
+        raise ValueError(f"anfis.selection.folds: must be an int between 2 and the {n} training rows, got {folds}")
+    return list(KFold(folds, shuffle=True, random_state=seed).split(np.zeros((n, 1))))
+
+
+def fit_fold(estimator: BaseEstimator, params: dict, X, y, fit_rows, test_rows) -> tuple[np.ndarray, int, float]:
+    """(predictions on the held-out rows, rules, fit seconds) of the estimator with ``params`` fitted on fit_rows."""
+    model = clone(estimator).set_params(**params)
+    start = time.perf_counter()
+    model.fit(X[fit_rows], y[fit_rows])
+    seconds = time.perf_counter() - start
+    return model.predict(X[test_rows]), int(model.n_rules_), seconds
+
+
+def fold_tasks(estimator, X, y, candidates: list[dict], folds: list) -> list:
+    """One ``fit_fold`` task per (candidate, fold), candidate-major."""
+    return [(fit_fold, (estimator, c, X, y, fit, test)) for c in candidates for fit, test in folds]
+
+
+def choose(mean: np.ndarray, se: np.ndarray, n_rules: np.ndarray, rule: str) -> int:
+    """Index of the chosen candidate from mean fold RMSE, its standard error and rules (see module doc)."""
+    if rule not in RULES:
+        raise ValueError(f"anfis.selection.rule: must be one of {list(RULES)}, got {rule!r}")
     best = int(np.argmin(mean))
-    units = getattr(estimator, "output_units", "1")
-    name = getattr(estimator, "output_name", "y")
+    if rule == "best":
+        return best
+    within = np.flatnonzero(mean <= mean[best] + se[best])
+    return int(min(within, key=lambda j: (n_rules[j], mean[j], j)))
+
+
+def _variables(rmse, se, n_rules, units: str, name: str) -> dict:
+    folds = rmse.shape[1]
+    return {
+        "cv_rmse": (("candidate", "fold"), rmse, {"units": units, "long_name": f"cross-validated RMSE of {name}"}),
+        "cv_rmse_mean": (
+            "candidate",
+            rmse.mean(axis=1),
+            {"units": units, "long_name": f"mean over folds of the RMSE of {name}"},
+        ),
+        "cv_rmse_std": (
+            "candidate",
+            rmse.std(axis=1, ddof=1),
+            {"units": units, "long_name": "sample standard deviation over folds of cv_rmse"},
+        ),
+        "cv_rmse_se": (
+            "candidate",
+            se,
+            {"units": units, "long_name": f"standard error of cv_rmse_mean: cv_rmse_std / sqrt({folds})"},
+        ),
+        "cv_n_rules": (("candidate", "fold"), n_rules, {"units": "1", "long_name": "rules of each fold's model"}),
+    }
+
+
+def summarise(
+    candidates: list[dict], results: list, n_folds: int, rule: str, units: str = "1", name: str = "y"
+) -> tuple[int, xr.Dataset, np.ndarray]:
+    """(chosen index, CV record, mean fit seconds per candidate) from the ``fit_fold`` results and fold RMSEs.
+
+    ``results``: per candidate, per fold, (rmse, rules, seconds). The record has ``cv_rmse`` (candidate, fold),
+    its mean, sample std and standard error, ``cv_n_rules`` and the candidates' mean rule count ``n_rules``.
+    """
+    table = np.array(results, dtype=float).reshape(len(candidates), n_folds, 3)
+    rmse, n_rules = table[..., 0], table[..., 1].astype(int)
+    se = rmse.std(axis=1, ddof=1) / np.sqrt(n_folds)
+    mean_rules = n_rules.mean(axis=1)
+    chosen = choose(rmse.mean(axis=1), se, mean_rules, rule)
+    best = int(np.argmin(rmse.mean(axis=1)))
     record = xr.Dataset(
-        {
-            "cv_rmse": (("candidate", "fold"), rmse, {"units": units, "long_name": f"cross-validated RMSE of {name}"}),
-            "cv_rmse_mean": (
-                "candidate",
-                mean,
-                {"units": units, "long_name": f"mean over folds of the RMSE of {name}"},
-            ),
-            "cv_rmse_std": (
-                "candidate",
-                rmse.std(axis=1),
-                {"units": units, "long_name": f"standard deviation over folds of the RMSE of {name}"},
-            ),
-        },
+        _variables(rmse, se, n_rules, units, name),
         coords={
-            "candidate": (
-                "candidate",
-                np.arange(1, len(candidates) + 1),
-                {"units": "1", "long_name": "candidate number"},
-            ),
+            "candidate": ("candidate", np.arange(1, len(candidates) + 1), {"units": "1", "long_name": "candidate"}),
             "candidate_label": (
                 "candidate",
                 np.array([label(c) for c in candidates], dtype=object),
                 {"units": "1", "long_name": "ANFIS structure of the candidate"},
             ),
-            "fold": ("fold", np.arange(1, folds + 1), {"units": "1", "long_name": "cross-validation fold"}),
+            "n_rules": ("candidate", mean_rules, {"units": "1", "long_name": "rules (mean over the folds' models)"}),
+            "fold": ("fold", np.arange(1, n_folds + 1), {"units": "1", "long_name": "cross-validation fold"}),
         },
         attrs={
-            "selected_candidate": label(candidates[best]),
-            "selected_params": json.dumps(candidates[best]),
-            "cv_folds": folds,
+            "selection_rule": rule,
+            "selected_candidate": label(candidates[chosen]),
+            "selected_params": json.dumps(candidates[chosen]),
+            "best_cv_candidate": label(candidates[best]),
+            "one_se_threshold": float(rmse.mean(axis=1)[best] + se[best]),
+            "cv_folds": n_folds,
         },
     )
-    return candidates[best], record, np.asarray(res["mean_fit_time"])[order]
+    return chosen, record, table[..., 2].mean(axis=1)
+
+
+def cross_validate(
+    estimator: BaseEstimator,
+    X: np.ndarray,
+    y: np.ndarray,
+    candidates: list[dict],
+    folds: int,
+    seed: int,
+    rule: str = "one_se",
+    n_jobs: int = 1,
+) -> tuple[dict, xr.Dataset, np.ndarray]:
+    """k-fold CV RMSE of every candidate on (X, y); the chosen candidate, the record, mean fit seconds."""
+    parts = splits(len(y), folds, seed)
+    costs = [cost(c, X.shape[1]) for c in candidates for _ in parts]
+    out = run(fold_tasks(estimator, X, y, candidates, parts), n_jobs, costs)
+    results = [
+        (np.sqrt(np.mean((pred - y[test]) ** 2)), rules, t)
+        for (pred, rules, t), (_, test) in zip(out, parts * len(candidates), strict=True)
+    ]
+    units, name = getattr(estimator, "output_units", "1"), getattr(estimator, "output_name", "y")
+    chosen, record, seconds = summarise(candidates, results, folds, rule, units, name)
+    return candidates[chosen], record, seconds

@@ -56,6 +56,58 @@ def rules_text(model, precision: int = 4) -> str:
     return "\n".join(lines)
 
 
+def _coords(model) -> dict:
+    d = model.n_features_in_
+    return {
+        "input": ("input", np.arange(1, d + 1), {"long_name": "input number", "units": "1"}),
+        "input_name": (
+            "input",
+            np.array(model.input_names_, dtype=object),
+            {"long_name": "input variable name", "units": "1"},
+        ),
+        "input_units": (
+            "input",
+            np.array(model.input_units_, dtype=object),
+            {"long_name": "units of each input", "units": "1"},
+        ),
+        "rule": ("rule", np.arange(1, model.n_rules_ + 1), {"long_name": "rule number", "units": "1"}),
+        "epoch": (
+            "epoch",
+            np.arange(1, model.train_rmse_.size + 1),
+            {"long_name": "training epoch number", "units": "1"},
+        ),
+    }
+
+
+def _input_variables(model, i: int) -> dict:
+    """The MF variables, training range and consequent coefficient of input i, in its units."""
+    name, unit = model.input_names_[i], model.input_units_[i]
+    sel = model.mf_input_ == i
+    out = {}
+    for var, values, what in [
+        ("mf_centre", model.centres_, "centre c"),
+        ("mf_sigma", model.sigmas_, "width sigma"),
+        ("mf_centre_initial", model.initial_centres_, "initial centre c"),
+        ("mf_sigma_initial", model.initial_sigmas_, "initial width sigma"),
+    ]:
+        long_name = f"{what} of the Gaussian membership functions of input {name}"
+        out[f"{var}_{i}"] = (f"mf_{i}", values[sel], {"long_name": long_name, "units": unit})
+    out[f"input_range_{i}"] = (
+        "bound",
+        model.input_range_[i],
+        {"long_name": f"training range (min, max) of input {name}; predict clamps to it", "units": unit},
+    )
+    out[f"consequent_{i}"] = (
+        "rule",
+        model.consequents_[:, i],
+        {
+            "long_name": f"consequent coefficient of input {name} in each rule",
+            "units": _ratio_units(model.output_units, unit),
+        },
+    )
+    return out
+
+
 def to_dataset(model) -> xr.Dataset:
     """The fitted model as an xarray.Dataset (original units; one set of MF variables per input).
 
@@ -65,89 +117,28 @@ def to_dataset(model) -> xr.Dataset:
     ``train_rmse``, ``val_rmse`` (if validated) and ``step_size``. Hyper-parameters are the
     JSON text attribute ``hyperparameters``.
     """
-    d, out_u = model.n_features_in_, model.output_units
+    d, out_u, out = model.n_features_in_, model.output_units, model.output_name
     offsets = np.searchsorted(model.mf_input_, np.arange(d))
-    epochs = np.arange(1, model.train_rmse_.size + 1)
-    ds = xr.Dataset(
-        coords={
-            "input": ("input", np.arange(1, d + 1), {"long_name": "input number", "units": "1"}),
-            "input_name": (
-                "input",
-                np.array(model.input_names_, dtype=object),
-                {"long_name": "input variable name", "units": "1"},
-            ),
-            "input_units": (
-                "input",
-                np.array(model.input_units_, dtype=object),
-                {"long_name": "units of each input", "units": "1"},
-            ),
-            "rule": ("rule", np.arange(1, model.n_rules_ + 1), {"long_name": "rule number", "units": "1"}),
-            "epoch": ("epoch", epochs, {"long_name": "training epoch number", "units": "1"}),
-        }
-    )
+    ds = xr.Dataset(coords=_coords(model))
     ds["rule_mf"] = (
         ("rule", "input"),
         (model.rule_mf_ - offsets + 1).astype(np.int32),
         {"long_name": "membership function number (1-based, per input) used by each rule", "units": "1"},
     )
-    for i, (name, unit) in enumerate(zip(model.input_names_, model.input_units_, strict=True)):
-        sel = model.mf_input_ == i
-        for var, values, what in [
-            ("mf_centre", model.centres_, "centre c"),
-            ("mf_sigma", model.sigmas_, "width sigma"),
-            ("mf_centre_initial", model.initial_centres_, "initial centre c"),
-            ("mf_sigma_initial", model.initial_sigmas_, "initial width sigma"),
-        ]:
-            ds[f"{var}_{i}"] = (
-                f"mf_{i}",
-                values[sel],
-                {
-                    "long_name": f"{what} of the Gaussian membership functions of input {name}",
-                    "units": unit,
-                },
-            )
-        ds[f"input_range_{i}"] = (
-            "bound",
-            model.input_range_[i],
-            {
-                "long_name": f"training range (min, max) of input {name}; predict clamps to it",
-                "units": unit,
-            },
-        )
-        ds[f"consequent_{i}"] = (
-            "rule",
-            model.consequents_[:, i],
-            {
-                "long_name": f"consequent coefficient of input {name} in each rule",
-                "units": _ratio_units(out_u, unit),
-            },
-        )
-    ds["consequent_constant"] = (
-        "rule",
-        model.consequents_[:, -1],
-        {"long_name": "consequent constant term of each rule", "units": out_u},
-    )
-    ds["train_rmse"] = (
-        "epoch",
-        model.train_rmse_,
-        {"long_name": f"training RMSE of {model.output_name}", "units": out_u},
-    )
+    for i in range(d):
+        ds = ds.assign(_input_variables(model, i))
+    constant = {"long_name": "consequent constant term of each rule", "units": out_u}
+    ds["consequent_constant"] = ("rule", model.consequents_[:, -1], constant)
+    ds["train_rmse"] = ("epoch", model.train_rmse_, {"long_name": f"training RMSE of {out}", "units": out_u})
     if model.val_rmse_.size:
-        ds["val_rmse"] = (
-            "epoch",
-            model.val_rmse_,
-            {"long_name": f"validation RMSE of {model.output_name}", "units": out_u},
-        )
-    ds["step_size"] = (
-        "epoch",
-        model.step_sizes_,
-        {"long_name": "premise step size as a fraction of the input ranges", "units": "1"},
-    )
+        ds["val_rmse"] = ("epoch", model.val_rmse_, {"long_name": f"validation RMSE of {out}", "units": out_u})
+    step = {"long_name": "premise step size as a fraction of the input ranges", "units": "1"}
+    ds["step_size"] = ("epoch", model.step_sizes_, step)
     ds.attrs = {
         "title": "ANFIS model: first-order Takagi-Sugeno rules, Gaussian membership functions",
         "model": "y = sum_r w_r f_r / sum_r w_r, w_r = prod_i exp(-(x_i - c)^2 / (2 sigma^2)), "
         "f_r = sum_i consequent_i x_i + consequent_constant; inputs clamped to input_range_i",
-        "output_name": model.output_name,
+        "output_name": out,
         "output_units": out_u,
         "best_epoch": int(model.best_epoch_),
         "hyperparameters": json.dumps(model.get_params(), default=json_default),

@@ -9,6 +9,7 @@ from uavdamp.settings import require, setting
 
 CANDIDATE_KEYS = {"grid": "n_mfs", "fcm": "n_rules", "subtractive": "radius"}  # each init's one size parameter
 EPOCH_SELECTION = ("validation", "checking")
+SELECTION_RULES = ("one_se", "best")  # fewest rules within one standard error of the best, or the best
 _W = "anfis."
 
 
@@ -38,13 +39,23 @@ class Candidate:
 
 @dataclass(frozen=True)
 class Selection:
-    """k-fold cross-validation over the candidates, on the training rows only (``anfis.selection``)."""
+    """k-fold cross-validation over the candidates, on the training rows only (``anfis.selection``).
+
+    ``rule``: ``one_se`` picks the candidate with the fewest rules whose mean CV RMSE is within one standard error
+    (std over folds / sqrt(folds)) of the lowest; ``best`` the lowest mean CV RMSE.
+    """
 
     folds: int = setting()
     candidates: tuple[Candidate, ...] = setting()
+    rule: str = setting()
 
     def validate(self) -> None:
         require(self.folds >= 2, _W + "selection.folds", f"must be >= 2, got {self.folds}")
+        require(
+            self.rule in SELECTION_RULES,
+            _W + "selection.rule",
+            f"must be one of {list(SELECTION_RULES)}, got {self.rule!r}",
+        )
         require(bool(self.candidates), _W + "selection.candidates", "needs at least one candidate")
         labels = [str(c.params()) for c in self.candidates]
         require(len(set(labels)) == len(labels), _W + "selection.candidates", f"duplicate candidates in {labels}")
@@ -92,3 +103,18 @@ class AnfisOptions:
         names = ("epochs", "error_goal", "step_size", "step_increase", "step_decrease", "min_sigma_frac", "ridge")
         params = {name: getattr(self, name) for name in names}
         return {**params, "validation_fraction": self.validation_fraction, "random_state": self.seed}
+
+
+@dataclass(frozen=True, kw_only=True)
+class AnfisSection(AnfisOptions):
+    """The config section ``anfis``: the options (the stage's params, what the results depend on) and its threads.
+
+    ``threads`` (the rule's ``threads:``, joblib workers of the cross-validation and the baselines) is not an
+    option: the results are identical whatever its value, so changing it reruns nothing.
+    """
+
+    threads: int = setting()
+
+    def validate(self) -> None:
+        super().validate()
+        require(self.threads >= 1, _W + "threads", f"must be >= 1, got {self.threads}")

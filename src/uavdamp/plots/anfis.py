@@ -1,5 +1,5 @@
 """ANFIS figures: membership functions before and after training, error curves, predicted vs reference,
-cross-validated structure selection and the comparison with the baselines."""
+the cross-validated structures (rules against error, the one-SE choice) and the comparison with the baselines."""
 
 from __future__ import annotations
 
@@ -10,26 +10,79 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+MARKERS = {"grid": "s", "fcm": "o", "subtractive": "^"}
+FEW = 12  # up to this many MFs per input, the ordered panel names each MF
+
+
+def _axis(model, i: int):
+    """(x in the learnt unit over the training range, x in the input's unit, axis label, log axis?) for input i."""
+    est = model.anfis
+    lo, hi = est.input_range_[i]
+    x = np.linspace(lo, hi, 400) if hi > lo else np.linspace(lo - 1, hi + 1, 400)
+    if i == 2 and model.log_stiffness:
+        return x, 10**x, "K (N/m)", True
+    unit = est.input_units_[i]
+    return x, x, f"{est.input_names_[i]}{'' if unit in ('', '1') else f' ({unit})'}", False
+
+
+def _curves(ax, x, shown, centres, sigmas, style: dict) -> None:
+    for c, s in zip(centres, sigmas, strict=True):
+        ax.plot(shown, np.exp(-((x - c) ** 2) / (2 * s**2)), **style)
+
+
+def _ordered(ax, model, i: int, after, before) -> None:
+    """Each MF as its centre and one-sigma band (trained) and initial centre (grey), ordered by trained centre."""
+    (c1, s1), (c0, _) = after, before
+    order = np.argsort(c1, kind="stable")
+    rank = np.arange(order.size)
+    shown = (lambda v: 10**v) if (i == 2 and model.log_stiffness) else (lambda v: v)
+    ax.hlines(rank, shown(c1[order] - s1[order]), shown(c1[order] + s1[order]), color="C0", lw=2, alpha=0.7)
+    ax.plot(shown(c1[order]), rank, "|", color="C0", ms=8, label="trained: centre, one-sigma band")
+    ax.plot(shown(c0[order]), rank, "o", mfc="none", color="0.45", ms=4, label="initial centre")
+    if order.size <= FEW:
+        ax.set_yticks(rank, [f"MF{k + 1}" for k in order], fontsize=7)
+    ax.set_ylim(-0.7, order.size - 0.3)
+    ax.set_ylabel("MFs ordered by centre")
+
 
 def membership_figure(model):
-    """One panel per input: Gaussian MFs before (dashed) and after (solid) training."""
-    n = len(model.input_names_)
-    fig, axes = plt.subplots(1, n, figsize=(4.2 * n, 3.4), constrained_layout=True, squeeze=False)
-    before, after = model.membership_functions(initial=True), model.membership_functions()
-    for i, ax in enumerate(axes[0]):
-        lo, hi = model.input_range_[i]
-        x = np.linspace(lo, hi, 400) if hi > lo else np.linspace(lo - 1, hi + 1, 400)
-        pairs = zip(zip(*before[i], strict=True), zip(*after[i], strict=True), strict=True)
-        for k, ((c0, s0), (c1, s1)) in enumerate(pairs):
-            (line,) = ax.plot(x, np.exp(-((x - c1) ** 2) / (2 * s1**2)), lw=1.6, label=f"MF{k + 1}")
-            ax.plot(x, np.exp(-((x - c0) ** 2) / (2 * s0**2)), ls="--", lw=1.0, color=line.get_color())
-        ax.set(
-            xlabel=f"{model.input_names_[i]} ({model.input_units_[i]})",
-            ylabel="membership",
-            ylim=(0, 1.05),
-            title=f"{model.input_names_[i]}: before (dashed), after (solid)",
-        )
-        ax.legend(fontsize=7)
+    """Per input: the MFs after (solid) and before (dashed) training, and each MF's centre and width ordered by centre.
+
+    ``model``: a DampingModel (K in N/m on a log axis where learnt as log10 K) or a bare ANFIS. No per-MF legend:
+    readable at 2 MFs and at 65. Grey: outside the training range (inputs are clamped to it), shown where a centre
+    left it."""
+    from uavdamp.anfis.damping import DampingModel
+
+    model = model if isinstance(model, DampingModel) else DampingModel(model, False, False)
+    est = model.anfis
+    n = est.n_features_in_
+    fig, axes = plt.subplots(2, n, figsize=(4.3 * n, 6.4), constrained_layout=True, squeeze=False)
+    before, after = est.membership_functions(initial=True), est.membership_functions()
+    for i in range(n):
+        x, shown, label, log = _axis(model, i)
+        count = after[i][0].size
+        alpha = float(np.clip(6.0 / count, 0.25, 1.0))
+        top, bottom = axes[0, i], axes[1, i]
+        _curves(top, x, shown, *before[i], {"ls": "--", "lw": 0.8, "color": "0.55", "alpha": alpha})
+        _curves(top, x, shown, *after[i], {"lw": 1.4, "color": "C0", "alpha": alpha})
+        top.set(ylabel="membership", ylim=(0, 1.05), title=f"{label}: {count} MF{'s' if count > 1 else ''}")
+        _ordered(bottom, model, i, after[i], before[i])
+        centres = np.concatenate([after[i][0], before[i][0]])
+        span = x[-1] - x[0]
+        lo, hi = min(x[0], centres.min() - 0.03 * span), max(x[-1], centres.max() + 0.03 * span)
+        for ax in (top, bottom):
+            ax.set_xlabel(label)
+            if log:
+                ax.set_xscale("log")
+            limits = (10**lo, 10**hi) if log else (lo, hi)
+            ax.set_xlim(*limits)
+            for a, b in ((limits[0], shown[0]), (shown[-1], limits[1])):  # outside the training range: clamped
+                if b > a:
+                    ax.axvspan(a, b, color="0.9", zorder=0)
+    axes[0, 0].plot([], [], color="C0", label="trained")
+    axes[0, 0].plot([], [], ls="--", color="0.55", label="initial")
+    axes[0, 0].legend(fontsize=7, loc="lower left")
+    axes[1, 0].legend(fontsize=7, loc="lower right")
     return fig
 
 
@@ -60,39 +113,74 @@ def training_figure(record: xr.Dataset):
     return fig
 
 
-def selection_figure(record: xr.Dataset):
-    """Cross-validated RMSE per candidate; checking RMSE and regret (mean, max) per model."""
-    with_regret = "check_regret_mean" in record
-    fig, axes = plt.subplots(
-        1, 3 if with_regret else 2, figsize=(14 if with_regret else 10, 4.2), constrained_layout=True
-    )
-    unit = record.cv_rmse.attrs["units"]
+def _by_init(ax, record: xr.Dataset, y, yerr=None) -> None:
+    """One point per candidate at (rules, y), one marker per init; the chosen candidate ringed."""
     labels = [str(v) for v in record.candidate_label.values]
-    x = np.arange(len(labels))
+    rules, inits, y = record.n_rules.values, np.array([lab.split()[0] for lab in labels]), np.asarray(y)
+    for k, init in enumerate(MARKERS):
+        pick = inits == init
+        err = None if yerr is None else np.asarray(yerr)[pick]
+        if pick.any():
+            ax.errorbar(rules[pick], y[pick], yerr=err, fmt=MARKERS[init], color=f"C{k}", capsize=3, label=init)
     chosen = labels.index(record.attrs["selected_candidate"])
+    ax.plot(rules[chosen], y[chosen], "o", ms=14, mfc="none", mec="k", mew=1.5, label="selected")
+    ax.set_xscale("log")
+    ticks = [t for t in (1, 2, 4, 8, 16, 32, 64, 128, 256, 512) if rules.min() / 1.5 <= t <= rules.max() * 1.5]
+    ax.set_xticks(ticks, [str(t) for t in ticks])
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax.set_xlabel("rules (mean over the folds' models)")
+
+
+def _candidates(axes, record: xr.Dataset) -> None:
+    unit = record.cv_rmse.attrs["units"]
     ax = axes[0]
-    ax.errorbar(x, record.cv_rmse_mean, yerr=record.cv_rmse_std, fmt="o", mfc="none", capsize=3, color="C0")
-    ax.plot(x[chosen], record.cv_rmse_mean[chosen], "o", color="C0", label="selected")
-    ax.set_xticks(x, labels, rotation=30, ha="right", fontsize=8)
-    ax.set(ylabel=f"RMSE ({unit})", title=f"{record.attrs['cv_folds']}-fold CV on the training rows")
-    ax.legend(fontsize=8)
+    _by_init(ax, record, record.cv_rmse_mean.values, record.cv_rmse_se.values)
+    ax.axhline(record.attrs["one_se_threshold"], color="k", ls="--", lw=0.8, label="best + 1 SE")
+    chosen = record.attrs["selected_candidate"]
+    ax.set(
+        ylabel=f"CV RMSE ({unit}), bars: standard error",
+        title=f"{record.attrs['cv_folds']}-fold CV: {chosen} ({record.attrs['selection_rule']})",
+    )
+    ax.legend(fontsize=7)
+    if "cv_regret_mean" in record:
+        ax = axes[1]
+        inits = np.array([str(v).split()[0] for v in record.candidate_label.values])
+        worst = record.cv_regret_max.values - 1
+        for k, init in enumerate(MARKERS):
+            pick = inits == init
+            ax.plot(record.n_rules.values[pick], worst[pick], MARKERS[init], mfc="none", color=f"C{k}")
+        _by_init(ax, record, record.cv_regret_mean.values - 1)
+        ax.plot([], [], "o", mfc="none", color="0.3", label="worst (hollow)")
+        ax.set_yscale("log")
+        ax.set(ylabel="CV regret - 1 (log): mean (filled), worst (hollow)", title="regret on the folds' held-out rows")
+        ax.legend(fontsize=7)
+
+
+def _models(axes, record: xr.Dataset) -> None:
     models = [str(v) for v in record.model.values]
     xm = np.arange(len(models))
-    ax = axes[1]
-    ax.bar(xm, record.check_rmse_target, color=["C1" if m == "anfis" else "C7" for m in models])
+    colours = ["C1" if m == "anfis" else "C7" for m in models]
+    ax = axes[0]
+    ax.bar(xm, record.check_rmse_target, color=colours)
     ax.set_xticks(xm, models)
     ax.set(ylabel=f"RMSE ({record.check_rmse_target.attrs['units']})", title="checking rows: learnt target")
-    if with_regret:
-        ax = axes[2]
-        ax.bar(
-            xm,
-            record.check_regret_mean - 1,
-            bottom=1,
-            color=["C1" if m == "anfis" else "C7" for m in models],
-            label="mean",
-        )
-        ax.plot(xm, record.check_regret_max, "kv", label="max")
+    if "check_regret_mean" in record:
+        ax = axes[1]
+        ax.bar(xm, record.check_regret_mean - 1, color=colours, label="mean")
+        ax.plot(xm, record.check_regret_max - 1, "kv", label="max")
         ax.set_xticks(xm, models)
-        ax.set(ylabel="criterion / optimal criterion", title="checking rows: regret")
+        ax.set_yscale("log")
+        ax.set(ylabel="regret - 1 (log; regret = criterion / optimal)", title="checking rows: regret")
         ax.legend(fontsize=8)
+
+
+def selection_figure(record: xr.Dataset):
+    """Top: every candidate's rules against CV RMSE (bars: SE, the one-SE line, the chosen one ringed) and CV
+    regret. Bottom: checking RMSE and regret (mean, max) of the ANFIS and the baselines."""
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8), constrained_layout=True)
+    _candidates(axes[0], record)
+    _models(axes[1], record)
+    for ax in axes.ravel():
+        if not ax.has_data():
+            ax.set_axis_off()
     return fig
