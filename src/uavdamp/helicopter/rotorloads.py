@@ -99,6 +99,7 @@ class RotorLoads:
         self.wind = np.asarray(wind, dtype=float)  # m/s, free stream in the model's (inertial) axes
         self.half_drag = 0.5 * aero.air_density * drag_area
         self.omega, self.radius = heli.main_rotor.omega_rad_s, self.main.tip_radius
+        self.tip_speed = self.omega * self.radius
         self.tail_omega = heli.tail_rotor.omega_rad_s
         self.r_over_radius = (self.main.hinge_offset + self.main.stations) / self.radius
         self.nu = np.zeros(3) if nu is None else np.asarray(nu, dtype=float).copy()  # inflow states (ratios)
@@ -134,10 +135,12 @@ class RotorLoads:
         """(forces (B, 3), moments (B, 3) about the hinges, global; total force and moment about the hub centre in
         fuselage axes) of the main blades."""
         blade, n, rot = self.main, self.main.n_blades, frames.blades
-        psi = rotor_inflow.blade_azimuth(hub_angle, n)
         nu_0, nu_s, nu_c = self.nu
-        harmonic = (nu_s * np.sin(psi) + nu_c * np.cos(psi))[:, None]
-        v_i = self.omega * self.radius * (nu_0 + self.r_over_radius * harmonic)
+        if nu_s or nu_c:
+            psi = rotor_inflow.blade_azimuth(hub_angle, n)
+            v_i = self.tip_speed * (nu_0 + self.r_over_radius * (nu_s * np.sin(psi) + nu_c * np.cos(psi))[:, None])
+        else:  # uniform inflow
+            v_i = np.full((n, self.r_over_radius.size), self.tip_speed * nu_0)
         air = self.wind - v_i[..., None] * frames.fuselage[:, 2]
         u = section_velocities(blade, rot, frames.hinge_velocity, frames.blade_omega, air)
         loads = blade_loads(blade, *u, blade.twist, self.rho)
@@ -152,7 +155,7 @@ class RotorLoads:
         rot = frames.tail @ self.tail_frames
         v_i = self.tail_lambda * self.tail_omega * blade.tip_radius
         air = self.wind - v_i * frames.fuselage[:, 1]
-        vel, omega = np.tile(frames.tail_velocity, (n, 1)), np.tile(frames.tail_omega, (n, 1))
+        vel, omega = np.broadcast_to(frames.tail_velocity, (n, 3)), np.broadcast_to(frames.tail_omega, (n, 3))
         loads = blade_loads(
             blade, *section_velocities(blade, rot, vel, omega, air), self.tail_collective + blade.twist, self.rho
         )
@@ -200,7 +203,7 @@ def feather_offsets(heli: Helicopter, controls, hub_angle: float, step: float):
     theta_0 + theta_1c cos psi + theta_1s sin psi at the Peters azimuth psi of mid-step (0 over the tail).
     """
     omega, n = heli.main_rotor.omega_rad_s, heli.main_rotor.n_blades
-    psi = rotor_inflow.blade_azimuth(hub_angle + 0.5 * omega * step, n)
+    psi = hub_angle + 0.5 * omega * step - math.pi + (2 * math.pi / n) * np.arange(n)  # `inflow.blade_azimuth`
     c, s = np.cos(psi), np.sin(psi)
     theta_0, theta_1c, theta_1s = controls[0], controls[1], controls[2]
     return theta_0 + theta_1c * c + theta_1s * s, omega * (theta_1s * c - theta_1c * s)

@@ -16,6 +16,7 @@ stays the same while the blade turns during the step.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,6 +39,16 @@ def _rot(axis: int, angle) -> np.ndarray:
     out[..., i, j] = -s
     out[..., j, i] = s
     return out
+
+
+def _rot1(axis: int, angle: float) -> np.ndarray:
+    """The rotation matrix (3, 3) about coordinate axis 0, 1 or 2 by a scalar `angle` rad (faster than `_rot`)."""
+    c, s = math.cos(angle), math.sin(angle)
+    if axis == 0:
+        return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+    if axis == 1:
+        return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -86,14 +97,14 @@ class TreeKinematics:
     def frames(self, q: np.ndarray, q_t: np.ndarray) -> Frames:
         """The frames and velocities at coordinates `q` (rad, m) and velocities `q_t` (the tree's order)."""
         f, lag, feather = self.flap, self.flap + 1, self.flap + 2
-        r3 = _rot(0, q[3])
-        r4 = r3 @ _rot(1, q[4])
-        r5 = r4 @ _rot(2, q[5])
-        axes = np.stack([r3[:, 0], r4[:, 1], r5[:, 2]])
+        r3 = _rot1(0, q[3])
+        r4 = r3 @ _rot1(1, q[4])
+        r5 = r4 @ _rot1(2, q[5])
+        axes = np.array([r3[:, 0], r4[:, 1], r5[:, 2]])
         omega_f = axes.T @ q_t[3:6]
         v_f = q_t[0:3]
         hub = r5 @ self.hub_offset
-        r6 = r5 @ _rot(2, q[HUB_LINK])
+        r6 = r5 @ _rot1(2, q[HUB_LINK])
         omega_h = omega_f + r5[:, 2] * q_t[HUB_LINK]
         v_h = v_f + cross(omega_f, hub)
         base = r6 @ self.azimuth  # (B, 3, 3)
@@ -116,7 +127,7 @@ class TreeKinematics:
             blade_omega=omega_b,
             flap_axes=flap_axes,
             lag_axes=lag_axes,
-            tail=r5 @ _rot(1, q[-1]),
+            tail=r5 @ _rot1(1, q[-1]),
             tail_point=tail_point,
             tail_velocity=v_f + cross(omega_f, tail_point),
             tail_omega=omega_f + r5[:, 1] * q_t[-1],
