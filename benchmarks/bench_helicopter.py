@@ -62,14 +62,7 @@ if args.flight:
         t1 = time.perf_counter()
         fh, speed, result = flight.trimmed(heli, "hover")
         t2 = time.perf_counter()
-        sim, mass = flight.release(fh, speed, result)
-        hold, tether = flight.pilot_of(sim, result, mass), flight.Tether(sim, np.diag(mass)[:6], fh.flight.release)
-
-        def pilot(s, q, q_t, tether=tether, hold=hold):
-            tether(s.count * options.step)
-            return hold(q, q_t)
-
-        sim.solve(fh.flight.release + options.duration, pilot)
+        sim, _ = flight.fly_trimmed(fh, speed, result)
         t3 = time.perf_counter()
         q, q_t = sim.state()
         n = 2000

@@ -68,7 +68,7 @@ BAD = {
     "figure-case-unknown": ({"study": {"figures": {"case_1": "case9"}}}, "study.figures.case_1: 'case9' is not a case"),
     "flight-case-in-vacuum": (
         {"helicopter": {"aerodynamics": {"inflow": "none"}}},
-        "study.cases.case3.run: 'hover' is a flight run: it needs helicopter.aerodynamics.inflow uniform or pitt_peters",
+        "study.cases.case3.run: 'hover' is a flight run: it needs helicopter.aerodynamics.inflow uniform or",
     ),
     "flight-without-tail-rotor": (
         {"helicopter": {"tail_rotor": {"omega_running_rad_s": 0.0}}},

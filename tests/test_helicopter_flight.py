@@ -166,7 +166,9 @@ def test_exudyn_link_torques_act_with_the_opposite_sign(heli):
 def test_held_fuselage_multipliers_are_the_applied_generalized_forces(heli):
     """Rotor at rest on stiff hinges, gravity only: the held fuselage's z multiplier is -W and its pitch one the tail's
     weight moment -m_tail g x_tail (rotor on the shaft), the signs the trim reads as its residual."""
-    stiff = {f"{hinge}_{kind}": value for hinge in ("flap", "lag") for kind, value in (("stiffness", 1e9), ("damping", 1e6))}
+    stiff = {
+        f"{hinge}_{kind}": value for hinge in ("flap", "lag") for kind, value in (("stiffness", 1e9), ("damping", 1e6))
+    }
     still = replace(heli.balanced(), main_rotor=replace(heli.main_rotor, omega_rad_s=1e-9, **stiff))
     still = replace(still, aerodynamics=replace(still.aerodynamics, air_density=1e-9))  # (almost) no air
     sim = F.Simulation(flying(still), still.solver, 0.0, held=True)
@@ -187,7 +189,9 @@ def test_tail_blades_turn_into_their_frame_y_and_positive_pitch_pushes_left(heli
     q_t[-1] = fh.tail_rotor.omega_rad_s
     frames = loads.kinematics.frames(q, q_t)
     rot = frames.tail @ loads.tail_frames
-    u_t, u_p, _ = section_velocities(loads.tail, rot, np.tile(frames.tail_velocity, (2, 1)), np.tile(frames.tail_omega, (2, 1)), np.zeros(3))
+    u_t, u_p, _ = section_velocities(
+        loads.tail, rot, np.tile(frames.tail_velocity, (2, 1)), np.tile(frames.tail_omega, (2, 1)), np.zeros(3)
+    )
     np.testing.assert_allclose(u_t, np.tile(fh.tail_rotor.omega_rad_s * loads.tail.stations, (2, 1)), rtol=1e-12)
     np.testing.assert_allclose(u_p, 0.0, atol=1e-9)
     loads.tail_collective = 0.1
@@ -245,7 +249,12 @@ def test_hover_thrust_is_blade_element_theory(hover):
     fh, result = hover
     main, rho_area, tip_speed = _rotor(fh)
     x0, lam, theta_0, twist = main.hinge_offset / main.tip_radius, result.means[17], result.x[0], main.twist_rad
-    closed = main.solidity * main.lift_slope / 2 * (theta_0 * (1 - x0**3) / 3 + twist * (1 - x0**4) / 4 - lam * (1 - x0**2) / 2)
+    closed = (
+        main.solidity
+        * main.lift_slope
+        / 2
+        * (theta_0 * (1 - x0**3) / 3 + twist * (1 - x0**4) / 4 - lam * (1 - x0**2) / 2)
+    )
     assert result.means[8] / (rho_area * tip_speed**2) == pytest.approx(closed, rel=0.02)
 
 
@@ -337,12 +346,14 @@ def test_pitt_peters_uniform_inflow_follows_a_collective_step_with_its_closed_fo
     stiff = replace(heli.main_rotor, flap_stiffness=1e8, feather_stiffness=1e7)
     fh = flying(replace(heli, main_rotor=stiff), inflow="pitt_peters")
     x0, nu0, tail_lambda = T.initial_guess(fh, 0.0)
-    sim = F.Simulation(fh, replace(fh.solver, output_step=fh.solver.step), 0.0, held=True, initial=F.start_state(fh, x0[0]))
+    sim = F.Simulation(
+        fh, replace(fh.solver, output_step=fh.solver.step), 0.0, held=True, initial=F.start_state(fh, x0[0])
+    )
     sim.loads.nu[0], sim.loads.tail_lambda = nu0, tail_lambda
     start, step = 0.6, 0.004
 
     def pilot(s, q, q_t):
-        return x0[:4] + np.array([step if s.count * s.options.step >= start else 0.0, 0.0, 0.0, 0.0])
+        return x0[:4] + np.array([step if s.time >= start - 1e-9 else 0.0, 0.0, 0.0, 0.0])
 
     sim.solve(1.2, pilot)
     record = np.array(sim.samples)

@@ -63,7 +63,7 @@ class Simulation:
     """One flight model: the tree (fuselage held or free), its rotor loads, a pilot called every step.
 
     pilot(sim, q, q_t) -> controls (collective, theta_1c, theta_1s, tail collective) rad, or None to stop.
-    `record` keeps, every output step, the time, controls, inflow and loads (`samples`).
+    Every output step the record keeps the time, controls, inflow and loads (`samples`).
     """
 
     def __init__(self, heli: FlightRun, options: SolverOptions, speed: float, *, held: bool, initial=None, nu=None):
@@ -81,8 +81,9 @@ class Simulation:
         self.feathers = [H.HUB_LINK + 3 + 3 * k for k in range(heli.main_rotor.n_blades)]
         self.controls = np.zeros(4)
         self.pilot = None
-        self.every = max(1, round(options.output_step / options.step))
-        self.count, self.samples = 0, []
+        self.count, self.samples, self.next_sample = 0, [], 0.0
+        self.time, self.step = 0.0, options.step  # s: the state's time and the step being taken (may be cut)
+        self._inflow = (self.loads.nu.copy(), 0.0)  # the inflow at the start of the step being taken
         ae, held_coordinates = self.mbs.systemData.GetObjectLTGAE, self.model.constraints
         self.drive_index = [ae(held_coordinates[c])[0] for c in (H.HUB_LINK, n - 1)]
         self.held_index = [ae(held_coordinates[c])[0] for c in range(6)] if held else []
@@ -100,35 +101,49 @@ class Simulation:
         return ae[self.held_index], ae[self.drive_index]
 
     def pre_step(self, mbs, t: float) -> bool:
+        """Exudyn's pre-step function: `t` is the end of the step, the state at its start. When Newton's iterations
+        fail, Exudyn retries the step shorter and calls this again from the same start: the controls are kept, the
+        inflow goes back to the start's and advances over the shorter step."""
+        start = mbs.systemData.GetTime(exu.ConfigurationType.StartOfStep)
+        retry, self.time, self.step = start == self.time and self.count > 0, start, t - start
         q = np.asarray(mbs.systemData.GetODE2Coordinates())
         q_t = np.asarray(mbs.systemData.GetODE2Coordinates_t())
+        if retry:
+            self.loads.nu[:], self.loads.tail_lambda = self._inflow
+            self.loads.step = self.step
+            self.loads.update(q, q_t)
+            return True
+        self._inflow = (self.loads.nu.copy(), self.loads.tail_lambda)
         controls = self.pilot(self, q, q_t)
         if controls is None:
             return False
         self.controls = controls
         self.loads.tail_collective = controls[3]
-        offsets, rates = feather_offsets(self.heli, controls, q[H.HUB_LINK], self.options.step)
+        offsets, rates = feather_offsets(self.heli, controls, q[H.HUB_LINK], self.step)
         self.offsets[self.feathers], self.rates[self.feathers] = offsets, rates
         mbs.SetObjectParameter(0, "jointPositionOffsetVector", self.offsets)
         mbs.SetObjectParameter(0, "jointVelocityOffsetVector", self.rates)
+        self.loads.step = self.step
         loads = self.loads.update(q, q_t)
-        if self.count % self.every == 0:
-            self._record(self.count * self.options.step, loads)
+        if self.time >= self.next_sample - 1e-3 * self.options.step:
+            self._record(self.time, loads)
         self.count += 1
         return True
 
     def _record(self, t: float, loads) -> None:
-        """A sample of the record at state time `t` s (the sensors' times)."""
+        """A sample of the record at state time `t` s, every output step (the sensors' times)."""
         row = [[t], self.controls, self.loads.nu, loads.main_force, loads.main_moment, loads.total_force]
         self.samples.append(np.concatenate(row))
+        self.next_sample += self.options.output_step
 
     def solve(self, duration: float, pilot) -> dict:
         """Integrate `duration` s (or until the pilot stops); solver statistics. The record gets the final state."""
         self.pilot = pilot
         self.mbs.SetPreStepUserFunction(self.pre_step)
         stats = H.solve(self.model, replace(self.options, duration=duration))
-        if self.count % self.every == 0:
-            self._record(self.count * self.options.step, self.loads.update(*self.state()))
+        self.time = self.mbs.systemData.GetTime()  # the end of the last step
+        if self.time >= self.next_sample - 1e-3 * self.options.step:
+            self._record(self.time, self.loads.update(*self.state()))
         return stats
 
     def state(self) -> tuple[np.ndarray, np.ndarray]:
@@ -186,7 +201,7 @@ class Tether:
         mbs = self.sim.mbs
         mbs.SetObjectParameter(0, "jointPControlVector", self.stiffness)
         mbs.SetObjectParameter(0, "jointDControlVector", self.damping)
-        if self.sim.count % 16 == 0 or ratio == 0.0:
+        if self.sim.count % 16 == 0 or ratio == 0.0:  # every 16 steps while it changes
             mbs.solverSignalJacobianUpdate = True
         self.on = ratio > 0.0
 
@@ -218,17 +233,21 @@ def pilot_of(sim: Simulation, result, mass: np.ndarray):
     )
 
 
-def fly(heli: FlightRun, condition: str):
-    """Trim, release and fly one flight condition; (simulation, trim result, solver statistics)."""
-    heli, speed, result = trimmed(heli, condition)
+def fly_trimmed(heli: FlightRun, speed: float, result):
+    """Release the trimmed helicopter and fly it (release, then the record); (simulation, solver statistics)."""
     sim, mass = release(heli, speed, result)
     hold = pilot_of(sim, result, mass)
     tether = Tether(sim, np.diag(mass)[:6], heli.flight.release)
-    step = heli.solver.step
 
     def pilot(s, q, q_t):
-        tether(s.count * step)
-        return hold(q, q_t)
+        tether(s.time)
+        return hold(q, q_t, s.step)
 
-    stats = sim.solve(heli.flight.release + heli.solver.duration, pilot)
+    return sim, sim.solve(heli.flight.release + heli.solver.duration, pilot)
+
+
+def fly(heli: FlightRun, condition: str):
+    """Trim, release and fly one flight condition; (simulation, trim result, solver statistics)."""
+    heli, speed, result = trimmed(heli, condition)
+    sim, stats = fly_trimmed(heli, speed, result)
     return sim, result, stats

@@ -99,8 +99,9 @@ class Hold:
             ]
         )
 
-    def __call__(self, q: np.ndarray, q_t: np.ndarray) -> np.ndarray:
-        """The controls (collective, theta_1c, theta_1s, tail collective), rad, for the next step."""
+    def __call__(self, q: np.ndarray, q_t: np.ndarray, step: float | None = None) -> np.ndarray:
+        """The controls (collective, theta_1c, theta_1s, tail collective), rad, for the next step (of `step` s, the
+        solver's by default; the filter counts samples, so a cut step shortens its window a little)."""
         filtered = self.filter(self.errors(q, q_t))
         if not self.enabled:
             return self.controls
@@ -109,7 +110,7 @@ class Hold:
         accel = -(k_p * filtered[8:10] + k_d * filtered[10:12])
         e[1] += accel[1] / self.g  # roll error against the reference -a_y / g
         e[2] -= accel[0] / self.g  # pitch error against the reference a_x / g
-        self.integral += e * self.step
+        self.integral += e * (self.step if step is None else step)
         demand = -(self.kp * e + self.kd * rate + self.ki * self.integral)
         self.controls = self.trim + self.allocation @ demand
         return self.controls
