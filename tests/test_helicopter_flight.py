@@ -379,8 +379,8 @@ def test_pitt_peters_uniform_inflow_follows_a_collective_step_with_its_closed_fo
 def test_trimmed_hover_holds_thrust_and_attitude_over_50_s(heli):
     """The imbalanced rotor in trimmed hover (Pitt-Peters inflow, 2.5 ms step, 6 stations), 50 s after the release:
     every revolution's mean vertical aerodynamic force within 0.5 % of the weight, its mean attitude (rotation from
-    the trim attitude) within 8 mrad (the release's yaw transient, 6 mrad, decays in about 2 s) and within 3 mrad
-    after the first 5 s, and the helicopter within 1 m of where the record started."""
+    the trim attitude) within 3 mrad and within 1.5 mrad after the first 5 s (measured 1.2 and 0.8 mrad), and the
+    helicopter within 0.5 m of where the record started (0.25 m)."""
     coarse = replace(
         heli,
         solver=replace(heli.solver, duration=50.0, step=0.0025, output_step=0.005),
@@ -399,5 +399,5 @@ def test_trimmed_hover_holds_thrust_and_attitude_over_50_s(heli):
     late = whole * period > 5.0
     assert float(run.time[-1]) == pytest.approx(50.0)
     assert np.abs(thrust - 1).max() < 0.005
-    assert np.abs(attitude).max() < 8e-3 and np.abs(attitude[late]).max() < 3e-3
-    assert np.abs(run.mount_displacement.sel(mount="cg").values).max() < 1.0
+    assert np.abs(attitude).max() < 3e-3 and np.abs(attitude[late]).max() < 1.5e-3
+    assert np.abs(run.mount_displacement.sel(mount="cg").values).max() < 0.5
