@@ -28,7 +28,7 @@ class Budget:
             require(getattr(self, name) > 0, f"budget.{name}", f"must be > 0, got {getattr(self, name)}")
 
 
-FLIGHT_COST = 2.0  # 1, CPU of a simulated second with aerodynamics over one in vacuum (bench_helicopter.py: 1.3-2.3)
+FLIGHT_COST = 5.0  # 1, flight run CPU per simulated s over a vacuum run's (bench_helicopter.py --flight: 4.8-5.8)
 
 
 def flight_seconds(heli, duration: float) -> float:

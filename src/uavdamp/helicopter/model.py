@@ -274,7 +274,7 @@ def mount_motion(
     data = [np.asarray(model.mbs.GetSensorStoredData(model.sensors[f"mount:{n}"])) for n in names]
     first = int(np.searchsorted(data[0][:, 0], start - 1e-9)) if start else 0
     data = [d[first:] for d in data]
-    time = data[0][:, 0] - start if start else data[0][:, 0]
+    time = np.round(data[0][:, 0] - start, 9) if start else data[0][:, 0]  # ns: the record's clock from 0
     displacement = np.stack([(d[:, 1:4] - d[0, 1:4]).T for d in data])
     matrices = np.asarray(model.mbs.GetSensorStoredData(model.sensors["rotation"]))[first:, 1:].reshape(-1, 3, 3)
     relative = matrices @ matrices[0].T if from_start else matrices

@@ -37,9 +37,13 @@ def fuselage_vibration_figure(ds: xr.Dataset, window_s: float = 5.0, mount: str 
         ax.legend(loc="upper right", fontsize=8)
         ax = axes[row, 1]
         spec = ds.amplitude_spectrum.sel(rotor="imbalanced", axis=axis)
-        ax.semilogy(ds.omega, 1e3 * spec, "b-", lw=0.8)
+        ax.semilogy(ds.omega, 1e3 * spec, "b-", lw=0.8, label="imbalanced, vacuum")
         dominant = float(ds.dominant_omega.sel(rotor="imbalanced", axis=axis))
         ax.axvline(dominant, color="k", ls="--", lw=0.8, label=f"dominant {dominant:.2f} rad/s")
+        if "hover" in ds.rotor.values:  # the flight run: trimmed hover with aerodynamics, gravity and pilot
+            hover = ds.amplitude_spectrum.sel(rotor="hover", axis=axis)
+            line = float(ds.dominant_omega.sel(rotor="hover", axis=axis))
+            ax.semilogy(ds.omega, 1e3 * hover, "g-", lw=0.8, label=f"imbalanced, trimmed hover (dominant {line:.2f})")
         ax.set(
             xlim=(0, 120),
             xlabel="angular frequency (rad/s)",
