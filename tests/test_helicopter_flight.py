@@ -401,3 +401,12 @@ def test_trimmed_hover_holds_thrust_and_attitude_over_50_s(heli):
     assert np.abs(thrust - 1).max() < 0.005
     assert np.abs(attitude).max() < 3e-3 and np.abs(attitude[late]).max() < 1.5e-3
     assert np.abs(run.mount_displacement.sel(mount="cg").values).max() < 0.5
+
+
+def test_the_configs_blades_are_the_aerodynamics_modules_bo105_defaults(heli):
+    """config/config.yaml carries the Bo-105 blade numbers and their sources; the module's defaults are the same."""
+    from uavdamp.helicopter import aerodynamics as A
+
+    main, tail = RL.rotor_blades(heli, heli.aerodynamics)
+    for got, default in ((main, A.BO105_MAIN), (tail, A.BO105_TAIL)):
+        assert replace(got, n_stations=default.n_stations) == default
