@@ -33,7 +33,7 @@ SCALINGS = ("per_axis", "common")
 class Case:
     """One input case of the study (``study.cases.NAME``): a helicopter run, scaled to `amplitude` (m) as read."""
 
-    run: str = setting()  # helicopter run: balanced | imbalanced | both_rotors
+    run: str = setting()  # helicopter run: balanced | imbalanced | both_rotors | hover | forward
     mount: str = setting()  # the mount point (helicopter.mount_points_m) whose motion the case takes
     amplitude: float = setting("amplitude_m")  # m
     amplitude_reading: str = setting()  # peak | dominant

@@ -73,8 +73,7 @@ class Frames:
     hinges: np.ndarray  # (B, 3) m, hinge points relative to the fuselage centre of mass
     hinge_velocity: np.ndarray  # (B, 3) m/s
     blade_omega: np.ndarray  # (B, 3) rad/s
-    flap_axes: np.ndarray  # (B, 3)
-    lag_axes: np.ndarray  # (B, 3)
+    hinge_axes: np.ndarray  # (B, 3, 3): each blade's flap, lag and feather axis
     tail: np.ndarray  # (3, 3) rotation of the tail hub
     tail_point: np.ndarray  # (3,) m, tail hub centre relative to the fuselage centre of mass
     tail_velocity: np.ndarray  # (3,) m/s
@@ -93,6 +92,7 @@ class TreeKinematics:
         self.hub_offset = np.array([0.0, 0.0, main.hub_height])
         self.tail_offset = np.asarray(heli.tail_rotor.position, dtype=float)
         self.flap = HUB_LINK + 1 + 3 * np.arange(main.n_blades)  # flap, lag, feather coordinates follow
+        self.hinge_coordinates = (self.flap[:, None] + np.arange(3)).ravel()
 
     def frames(self, q: np.ndarray, q_t: np.ndarray) -> Frames:
         """The frames and velocities at coordinates `q` (rad, m) and velocities `q_t` (the tree's order)."""
@@ -112,8 +112,9 @@ class TreeKinematics:
         r_lag = r_flap @ _rot(2, q[lag])
         blades = r_lag @ _rot(0, q[feather])
         hinge = self.hinge @ r6.T  # (B, 3): r6 @ hinge_k
-        flap_axes, lag_axes, feather_axes = r_flap[:, :, 1], r_flap[:, :, 2], r_lag[:, :, 0]
-        omega_b = omega_h + flap_axes * q_t[f, None] + lag_axes * q_t[lag, None] + feather_axes * q_t[feather, None]
+        hinge_axes = np.stack([r_flap[:, :, 1], r_flap[:, :, 2], r_lag[:, :, 0]], axis=1)  # (B, 3 joints, 3)
+        rates = q_t[self.hinge_coordinates].reshape(-1, 3)
+        omega_b = omega_h + np.einsum("bki,bk->bi", hinge_axes, rates)
         v_hinge = v_h + cross(omega_h, hinge)
         tail_point = r5 @ self.tail_offset
         return Frames(
@@ -125,8 +126,7 @@ class TreeKinematics:
             hinges=hub + hinge,
             hinge_velocity=v_hinge,
             blade_omega=omega_b,
-            flap_axes=flap_axes,
-            lag_axes=lag_axes,
+            hinge_axes=hinge_axes,
             tail=r5 @ _rot1(1, q[-1]),
             tail_point=tail_point,
             tail_velocity=v_f + cross(omega_f, tail_point),
@@ -137,19 +137,17 @@ class TreeKinematics:
         """Q (n,) of forces (B, 3) at the hinges with moments (B, 3) on the blades, a force and moment on the tail hub
         (at its centre) and a force `drag` at the fuselage centre of mass; N, N m, global."""
         q = np.zeros(self.n)
-        f, lag, feather = self.flap, self.flap + 1, self.flap + 2
-        q[0:3] = blade_force.sum(axis=0) + tail_force + drag
-        about_hub = blade_moment + cross(frames.hinges - frames.hub, blade_force)
+        rotor_force = blade_force.sum(axis=0)
+        q[0:3] = rotor_force + tail_force + drag
+        about_hub = (blade_moment + cross(frames.hinges - frames.hub, blade_force)).sum(axis=0)
         about_cg = (
-            about_hub.sum(axis=0)
-            + cross(frames.hub, blade_force.sum(axis=0))
+            about_hub
             + tail_moment
-            + cross(frames.tail_point, tail_force)
+            + cross(np.array([frames.hub, frames.tail_point]), np.array([rotor_force, tail_force])).sum(axis=0)
         )
         q[3:6] = frames.axes @ about_cg
-        q[HUB_LINK] = frames.fuselage[:, 2] @ about_hub.sum(axis=0)
-        q[f] = np.einsum("bi,bi->b", frames.flap_axes, blade_moment)
-        q[lag] = np.einsum("bi,bi->b", frames.lag_axes, blade_moment)
-        q[feather] = np.einsum("bi,bi->b", frames.blades[:, :, 0], blade_moment)
+        q[HUB_LINK] = frames.fuselage[:, 2] @ about_hub
+        # flap, lag and feather axes (B, 3, 3) against each blade's moment: the blades' hinge coordinates in order
+        q[self.hinge_coordinates] = np.einsum("bki,bi->bk", frames.hinge_axes, blade_moment).ravel()
         q[-1] = frames.fuselage[:, 1] @ tail_moment
         return q
