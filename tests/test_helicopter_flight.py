@@ -410,3 +410,27 @@ def test_the_configs_blades_are_the_aerodynamics_modules_bo105_defaults(heli):
     main, tail = RL.rotor_blades(heli, heli.aerodynamics)
     for got, default in ((main, A.BO105_MAIN), (tail, A.BO105_TAIL)):
         assert replace(got, n_stations=default.n_stations) == default
+
+
+def test_a_hover_benchmark_scenario_is_the_flight_run_at_the_scenarios_rotor_speed():
+    """The benchmark's flight dimension (quick config, hover, rotor speed x 1.1): a trimmed-hover input whose dominant
+    line is the scaled rotor's 1/rev, scaled to the benchmark's amplitude on both axes."""
+    from conftest import typed_config
+
+    from uavdamp import scenarios
+
+    config = typed_config("quick.yaml")
+    bench = config.benchmark
+    grid = replace(bench.helicopter, flight=("hover",), rotor_speed_ratio=(1.1,), tail_rotor=(False, True))
+    options = replace(bench, helicopter=grid)
+    name = "heli_hover_m0.5_r1.1_at_cg"
+    assert [n for n in scenarios.scenario_specs(options) if n.startswith("heli_")] == [name]  # tail off: vacuum only
+    ds = scenarios.scenario_input(name, options, config.helicopter, config.platform.time_step)
+    t, dt = ds.time.values, float(np.diff(ds.time.values).mean())
+    assert t[-1] == pytest.approx(options.duration_s, abs=dt)
+    one_rev_hz = 1.1 * config.helicopter.main_rotor.omega_rad_s / (2 * math.pi)
+    for axis in ("y", "z"):
+        signal = ds.mount_displacement.sel(axis=axis).values
+        spectrum = np.abs(np.fft.rfft(signal * np.hanning(signal.size), n=8 * signal.size))
+        peak = np.fft.rfftfreq(8 * signal.size, dt)[np.argmax(spectrum)]
+        assert peak == pytest.approx(one_rev_hz, rel=0.05)

@@ -1,7 +1,8 @@
 """What a config will cost before anything runs: grid points, simulated seconds and an estimate of CPU time.
 
 The constants are measured on the 2-core development machine (config `budget`, with their source in the config
-comments) and are estimates, not guarantees: they scale the counts, they do not model a machine.
+comments) and are estimates, not guarantees: they scale the counts, they do not model a machine. A flight run's
+seconds (trim, release, record) count FLIGHT_COST vacuum seconds each in the helicopter's simulated seconds.
 """
 
 from __future__ import annotations

@@ -17,8 +17,11 @@ from conftest import planned_rules as dry_run_rules
 
 from uavdamp import io
 
+FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study"}
 HELICOPTER_ALL = {
     "helicopter_run",
+    "helicopter_flight",
+    "helicopter_trim",
     "helicopter_vibration",
     "helicopter_campbell",
     "helicopter_sensitivity_run",
@@ -32,6 +35,22 @@ GRID_DOWN = {"reference_table_chunk", "reference_table", "anfis", "study"}
 EDITS = {
     "helicopter.fuselage.mass_kg": (("helicopter", "fuselage", "mass_kg"), lambda v: v * 1.01, HELICOPTER_ALL),
     "helicopter.campbell.n_speeds": (("helicopter", "campbell", "n_speeds"), lambda v: v + 2, {"helicopter_campbell"}),
+    # the flight runs' own sections: the vacuum runs, the Campbell diagram and the vacuum sensitivity stay
+    "helicopter.aerodynamics.main_blade.chord_m": (
+        ("helicopter", "aerodynamics", "main_blade", "chord_m"),
+        lambda v: v * 1.01,
+        FLIGHT,
+    ),
+    "helicopter.flight.hold.bandwidth_hz": (
+        ("helicopter", "flight", "hold", "bandwidth_hz"),
+        lambda v: v * 0.9,
+        FLIGHT,
+    ),
+    "helicopter.sensitivity.flight": (
+        ("helicopter", "sensitivity", "flight"),
+        lambda v: "hover",
+        {"helicopter_sensitivity_run", "helicopter_sensitivity"},
+    ),
     "helicopter.sensitivity.duration_s": (
         ("helicopter", "sensitivity", "duration_s"),
         lambda v: v + 0.5,
