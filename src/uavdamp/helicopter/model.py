@@ -137,6 +137,17 @@ def initial_fuselage_velocity(heli: Helicopter) -> np.ndarray:
     return -rotor_momentum / heli.total_mass()
 
 
+def _initial_state(heli: Helicopter, n: int, fix_fuselage: bool) -> tuple[None, np.ndarray]:
+    """(coordinates: None, the tree's default zeros; velocities): rotors at speed, the free fuselage with the
+    velocity that cancels the rotor's linear momentum."""
+    q_t0 = np.zeros(n)
+    if not fix_fuselage:
+        q_t0[:3] = initial_fuselage_velocity(heli)
+    q_t0[HUB_LINK] = heli.main_rotor.omega_rad_s
+    q_t0[-1] = heli.tail_rotor.omega_rad_s
+    return None, q_t0
+
+
 @dataclass
 class Model:
     """An assembled Exudyn system and handles to its parts."""
@@ -159,14 +170,7 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     links = tree_links(heli)
-    q_t0 = np.zeros(len(links))
-    if not fix_fuselage:
-        q_t0[:3] = initial_fuselage_velocity(heli)
-    q_t0[HUB_LINK] = heli.main_rotor.omega_rad_s
-    q_t0[-1] = heli.tail_rotor.omega_rad_s
-    q_0 = None
-    if initial is not None:
-        q_0, q_t0 = (np.asarray(v, dtype=float) for v in initial)
+    q_0, q_t0 = _initial_state(heli, len(links), fix_fuselage) if initial is None else initial
     tree = mbs.CreateKinematicTree(listOfTreeLinks=links, initialCoordinates=q_0, initialCoordinates_t=q_t0, show=False)
     node = mbs.GetObject(tree)["nodeNumber"]
 

@@ -24,6 +24,20 @@ def _spectra(signals: np.ndarray, dt: float, options: Spectrum) -> tuple[np.ndar
     return freq_hz, np.reshape(spectra, (*shape, -1)), np.reshape(dominant, shape)
 
 
+def _stacked(runs: dict[str, xr.Dataset]) -> xr.Dataset:
+    """The runs' mount motion on a `rotor` dimension (a flight run also holds its pilot's record: left out)."""
+    rotors = list(runs)
+    motion = [runs[r][["mount_displacement", "mount_rotation"]] for r in rotors]
+    if len({m.time.size for m in motion}) != 1 or any(
+        np.abs(m.time.values - motion[0].time.values).max() > 1e-6 for m in motion
+    ):
+        raise ValueError("runs: sampled at different times (every run needs helicopter.solver's duration and step)")
+    # a flight run's times are its record's (start subtracted): the same samples up to round-off
+    ds = xr.concat(motion, dim=xr.DataArray(rotors, dims="rotor"), combine_attrs="override", join="override")
+    ds.attrs = {}
+    return ds
+
+
 def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], options: Spectrum) -> xr.Dataset:
     """Combine runs keyed by rotor state ("balanced", "imbalanced", and the flight runs "hover", "forward") with their
     spectra.
@@ -33,14 +47,7 @@ def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], options: Spectrum) 
     where the free-floating fuselage's slow rigid-body drift (no aerodynamic restoring force here) is excluded.
     """
     rotors = list(runs)
-    motion = [runs[r][["mount_displacement", "mount_rotation"]] for r in rotors]  # flight runs also hold a record
-    if len({m.time.size for m in motion}) != 1 or any(
-        np.abs(m.time.values - motion[0].time.values).max() > 1e-6 for m in motion
-    ):
-        raise ValueError("runs: sampled at different times (every run needs helicopter.solver's duration and step)")
-    # a flight run's times are its record's (start subtracted): the same samples up to round-off
-    ds = xr.concat(motion, dim=xr.DataArray(rotors, dims="rotor"), combine_attrs="override", join="override")
-    ds.attrs = {}
+    ds = _stacked(runs)
     ds["rotor"].attrs = {"units": "1", "long_name": "main rotor state"}
     spacing = np.diff(ds.time.values)
     dt = float(spacing.mean())
