@@ -45,10 +45,24 @@ def test_split_is_seeded_complete_and_has_both_sets():
 
 
 def test_scenario_names_and_synthetic_inputs(params):
-    specs = scenarios.scenario_specs(typed_config().benchmark)
+    default = typed_config().benchmark
+    specs = scenarios.scenario_specs(default)
+    # flights (hover, forward) x masses x speeds x mounts; a flying helicopter has its tail rotor on
+    assert len([n for n in specs if n.startswith("heli_")]) == 2 * 2 * 3 * 1
+    assert specs["heli_hover_m0.5_r1.1_at_cg"] == {
+        "kind": "helicopter",
+        "flight": "hover",
+        "mass_factor": 0.5,
+        "speed_ratio": 1.1,
+        "tail_rotor": True,
+        "mount": "cg",
+    }
+    vacuum = replace(default, helicopter=replace(default.helicopter, flight=("vacuum",)))
+    specs = scenarios.scenario_specs(vacuum)
     assert len([n for n in specs if n.startswith("heli_")]) == 2 * 3 * 2 * 1  # masses, speeds, tail, mounts
     assert specs["heli_m0.5_r1.1_tail_on_at_cg"] == {
         "kind": "helicopter",
+        "flight": "vacuum",
         "mass_factor": 0.5,
         "speed_ratio": 1.1,
         "tail_rotor": True,

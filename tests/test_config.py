@@ -66,6 +66,18 @@ BAD = {
     ),
     "budget-not-positive": ({"budget": {"max_cpu_hours": 0.0}}, "budget.max_cpu_hours: must be > 0"),
     "figure-case-unknown": ({"study": {"figures": {"case_1": "case9"}}}, "study.figures.case_1: 'case9' is not a case"),
+    "flight-case-in-vacuum": (
+        {"helicopter": {"aerodynamics": {"inflow": "none"}}},
+        "study.cases.case3.run: 'hover' is a flight run: it needs helicopter.aerodynamics.inflow uniform or",
+    ),
+    "flight-without-tail-rotor": (
+        {"helicopter": {"tail_rotor": {"omega_running_rad_s": 0.0}}},
+        "study.cases.case3.run: 'hover' is a flight run: it needs a turning tail rotor",
+    ),
+    "position-hold-faster-than-attitude": (
+        {"helicopter": {"flight": {"hold": {"position_bandwidth_hz": 0.5}}}},
+        "helicopter.flight.hold.position_bandwidth_hz: must be below bandwidth_hz",
+    ),
     # a bad value in every section
     "helicopter.fuselage": (
         {"helicopter": {"fuselage": {"mass_kg": -1.0}}},
@@ -148,6 +160,30 @@ BAD = {
         "benchmark.split.tuning_fraction: must lie in (0, 1)",
     ),
     "budget": ({"budget": {"helicopter_cpu_per_simulated_s": -1.0}}, "budget.helicopter_cpu_per_simulated_s"),
+    "helicopter.aerodynamics": (
+        {"helicopter": {"aerodynamics": {"inflow": "vortex"}}},
+        "helicopter.aerodynamics.inflow: must be one of ['none', 'uniform', 'pitt_peters']",
+    ),
+    "helicopter.aerodynamics.main_blade": (
+        {"helicopter": {"aerodynamics": {"main_blade": {"chord_m": 0.0}}}},
+        "helicopter.aerodynamics.main_blade.chord_m: must be > 0",
+    ),
+    "helicopter.flight": (
+        {"helicopter": {"flight": {"forward_advance_ratio": 0.6}}},
+        "helicopter.flight.forward_advance_ratio: must lie in (0, 0.4]",
+    ),
+    "helicopter.flight.trim": (
+        {"helicopter": {"flight": {"trim": {"max_iterations": 0}}}},
+        "helicopter.flight.trim.max_iterations: must be >= 1",
+    ),
+    "helicopter.sensitivity.flight": (
+        {"helicopter": {"sensitivity": {"flight": "orbit"}}},
+        "helicopter.sensitivity.flight: must be one of ['vacuum', 'hover', 'forward']",
+    ),
+    "benchmark.helicopter.flight": (
+        {"benchmark": {"helicopter": {"flight": ["hover", "orbit"]}}},
+        "benchmark.helicopter.flight[1]: must be one of ['vacuum', 'hover', 'forward']",
+    ),
 }
 
 UNKNOWN = {

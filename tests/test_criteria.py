@@ -157,15 +157,15 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
     edits = {
         "criterion": (
             {"reference_table": {"criterion": "blur"}},
-            {"reference_table", "reference_table_stroke", "anfis", "study", "all"},
+            {"reference_table", "reference_table_stroke", "anfis", "study", "summary", "all"},
         ),
         "window": (
             {"reference_table": {"window": "steady"}},
-            {"reference_table", "reference_table_stroke", "anfis", "study", "all"},
+            {"reference_table", "reference_table_stroke", "anfis", "study", "summary", "all"},
         ),
         "camera": (
             {"camera": {"exposure_s": 2.0e-3}},
-            {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study", "all"},
+            {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study", "summary", "all"},
         ),
     }
     for name, (edit, expected) in edits.items():

@@ -137,7 +137,7 @@ def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
     edited.write_text(yaml.safe_dump(config))
     result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", str(edited.relative_to(quick_run)), timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
-    assert planned_rules(result) == {"anfis", "study", "all"}, result.stdout[-3000:]
+    assert planned_rules(result) == {"anfis", "study", "summary", "all"}, result.stdout[-3000:]
 
 
 def test_html_report(quick_run):

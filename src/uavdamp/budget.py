@@ -1,7 +1,8 @@
 """What a config will cost before anything runs: grid points, simulated seconds and an estimate of CPU time.
 
 The constants are measured on the 2-core development machine (config `budget`, with their source in the config
-comments) and are estimates, not guarantees: they scale the counts, they do not model a machine.
+comments) and are estimates, not guarantees: they scale the counts, they do not model a machine. A flight run's
+seconds (trim, release, record) count FLIGHT_COST vacuum seconds each in the helicopter's simulated seconds.
 """
 
 from __future__ import annotations
@@ -28,12 +29,28 @@ class Budget:
             require(getattr(self, name) > 0, f"budget.{name}", f"must be > 0, got {getattr(self, name)}")
 
 
+FLIGHT_COST = 5.0  # 1, flight run CPU per simulated s over a vacuum run's (bench_helicopter.py --flight: 4.8-5.8)
+
+
+def flight_seconds(heli, duration: float) -> float:
+    """Vacuum-equivalent simulated seconds of one flight run of `duration` s: its trim (settle, 6 Jacobian phases
+    and up to max_iterations Newton phases, each step_settle plus two revolutions), release and record, at
+    FLIGHT_COST."""
+    trim = heli.flight.trim
+    revolutions = 2 * 2 * 3.141592653589793 / heli.main_rotor.omega_rad_s
+    phases = 6 + trim.max_iterations
+    return FLIGHT_COST * (trim.settle + phases * (trim.step_settle + revolutions) + heli.flight.release + duration)
+
+
 def estimate(config) -> dict[str, float]:
     """Counts and estimated CPU seconds of the heavy stages of a typed `uavdamp.config.Config`."""
     b, heli, study, grid = config.budget, config.helicopter, config.study, config.reference_table
-    runs_s = 3 * heli.solver.duration  # balanced, imbalanced, both rotors
+    flight = heli.aerodynamics.enabled
+    runs_s = 3 * heli.solver.duration + (2 * flight_seconds(heli, heli.solver.duration) if flight else 0.0)
     n_sensitivity = 1 + sum(len(v) for v in heli.sensitivity.parameters.values())
-    heli_s = runs_s + n_sensitivity * heli.sensitivity.duration
+    duration = heli.sensitivity.duration
+    each = duration if heli.sensitivity.flight == "vacuum" else flight_seconds(heli, duration)
+    heli_s = runs_s + n_sensitivity * each
     per_point = b.seconds_per_point_linear if config.platform.backend == "linear" else b.seconds_per_point_exudyn
     grid_points = int(np.prod([axis.array().size for axis in (grid.freq_y, grid.freq_z, grid.stiffness, grid.damping)]))
     # study: per case and K, every strategy and the best-constant search (its candidates, up to 20 refinements);

@@ -34,6 +34,7 @@ def check_config(config: Config) -> dict:
     _check_frequencies(config)
     _check_study(config)
     _check_mounts(config)
+    _check_flights(config)
     grid = config.reference_table
     damping, bounds = grid.damping.array(), (config.platform.damping_min, config.platform.damping_max)
     require(
@@ -97,6 +98,27 @@ def _check_mounts(config: Config) -> None:
     named |= {f"benchmark.helicopter.mount[{k}]": m for k, m in enumerate(config.benchmark.helicopter.mount)}
     for key, mount in named.items():
         require(mount in points, key, f"{mount!r} is not a mount point of helicopter.mount_points_m ({points})")
+
+
+def _check_flights(config: Config) -> None:
+    """Flight runs (hover, forward) named anywhere need aerodynamics (inflow other than none) and a tail rotor."""
+    heli = config.helicopter
+    named = {f"study.cases.{name}.run": case.run for name, case in config.study.cases.items()}
+    named |= {f"benchmark.helicopter.flight[{k}]": f for k, f in enumerate(config.benchmark.helicopter.flight)}
+    named["helicopter.sensitivity.flight"] = heli.sensitivity.flight
+    for key, run in named.items():
+        if run not in ("hover", "forward"):
+            continue
+        require(
+            heli.aerodynamics.enabled,
+            key,
+            f"{run!r} is a flight run: it needs helicopter.aerodynamics.inflow uniform or pitt_peters, not none",
+        )
+        require(
+            heli.tail_rotor.omega_running_rad_s > 0,
+            key,
+            f"{run!r} is a flight run: it needs a turning tail rotor (helicopter.tail_rotor.omega_running_rad_s > 0)",
+        )
 
 
 def _check_study(config: Config) -> None:

@@ -42,7 +42,7 @@ class Case:
     (m) as read, or taken as measured (amplitude_scaling: measured, no amplitude_m). A key set to null counts as
     absent (how a profile merged over config.yaml turns a helicopter case into a flight-log one)."""
 
-    run: str | None = setting(default=None)  # helicopter run: balanced | imbalanced | both_rotors
+    run: str | None = setting(default=None)  # helicopter run: balanced | imbalanced | both_rotors | hover | forward
     mount: str | None = setting(default=None)  # the mount point (helicopter.mount_points_m) of a helicopter case
     flight_log: str | None = setting(default=None)  # a measured flight: a name of the flight_logs section
     window_s: tuple[float, ...] | None = setting(default=None, length=2)  # s, where in the log the case starts

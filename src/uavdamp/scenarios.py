@@ -1,13 +1,15 @@
 """The benchmark's scenarios: helicopter runs over imbalance, rotor speed and tail rotor, measured flights, synthetics.
 
-Names come from the config's ``benchmark`` section (`scenario_specs`): every combination of
-helicopter.imbalance_mass_factor x rotor_speed_ratio x tail_rotor x mount ("heli_m0.5_r1.1_tail_on_at_cg"), and the
-entries of the lists ``synthetic`` and ``flight_logs`` by their `name`. `split` puts each one, seeded, in the tuning
-or the evaluation set. `scenario_input` makes one scenario's mount input: a dataset with `mount_displacement` and
-`mount_rotation` (axis x, y, z; time), m and rad.
+Names come from the config's ``benchmark`` section (`scenario_specs`): every combination of helicopter.flight x
+imbalance_mass_factor x rotor_speed_ratio x tail_rotor x mount ("heli_m0.5_r1.1_tail_on_at_cg" in vacuum,
+"heli_hover_m0.5_r1.1_at_cg" in flight: a flying helicopter has its tail rotor on, so tail_rotor false exists in
+vacuum only), and the entries of the lists ``synthetic`` and ``flight_logs`` by their `name`. `split` puts each one,
+seeded, in the tuning or the evaluation set. `scenario_input` makes one scenario's mount input: a dataset with
+`mount_displacement` and `mount_rotation` (axis x, y, z; time), m and rad.
 
-Helicopter: `uavdamp.helicopter.run` with the imbalanced blade's mass factor, both rotor speeds scaled by the ratio
-(main rotor `omega_rad_s`; the tail rotor at its `omega_running_rad_s` when on, stopped when off), then
+Helicopter: in vacuum `uavdamp.helicopter.run`, in hover or forward flight `uavdamp.helicopter.flight_run` (trim,
+release, pilot), with the imbalanced blade's mass factor, both rotor speeds scaled by the ratio (main rotor
+`omega_rad_s`; the tail rotor at its `omega_running_rad_s` when on, stopped when off), then
 `uavdamp.excitation.cases_dataset`: high-passed and each axis's dominant line scaled to amplitude_m (per_axis, as
 the study's case 1). Measured flights (``benchmark.flight_logs``, kind "flight_log"): a window of a configured log,
 as measured (`uavdamp.excitation.case_input`). Synthetic kinds (choices): "sweep", a linear chirp of amplitude_m
@@ -28,7 +30,7 @@ from scipy.signal import butter, chirp, sosfiltfilt
 from uavdamp import helicopter as H
 from uavdamp.contract import MountMotion
 from uavdamp.excitation import MOTIONS, Case, case_input
-from uavdamp.helicopter import HelicopterRun
+from uavdamp.helicopter import FLIGHTS, HelicopterRun
 from uavdamp.settings import require, setting
 
 KINDS = ("helicopter", "sweep", "tones", "random", "flight_log")
@@ -47,6 +49,7 @@ class HelicopterScenarios:
     tail_rotor: tuple[bool, ...] = setting()  # stopped (false) or running (true)
     mount: tuple[str, ...] = setting()  # mount points (helicopter.mount_points_m) whose motion is the input
     motion: str = setting()  # planar (y, z translation) | full (translation and rotation): `excitation.Case`
+    flight: tuple[str, ...] = setting()  # flight conditions (FLIGHTS)
 
     def validate(self) -> None:
         for key in ("imbalance_mass_factor", "rotor_speed_ratio"):
@@ -55,6 +58,8 @@ class HelicopterScenarios:
         require(
             self.motion in MOTIONS, f"{_W}helicopter.motion", f"must be one of {list(MOTIONS)}, got {self.motion!r}"
         )
+        for k, flight in enumerate(self.flight):
+            require(flight in FLIGHTS, f"{_W}helicopter.flight[{k}]", f"must be one of {list(FLIGHTS)}, got {flight!r}")
 
 
 @dataclass(frozen=True)
@@ -136,11 +141,19 @@ def scenario_specs(options: ScenarioOptions) -> dict[str, dict]:
     """{name: spec} of every scenario (spec["kind"] in KINDS)."""
     heli = options.helicopter
     specs = {}
-    grid = itertools.product(heli.imbalance_mass_factor, heli.rotor_speed_ratio, heli.tail_rotor, heli.mount)
-    for mass, ratio, tail, mount in grid:
-        name = f"heli_m{float(mass):g}_r{float(ratio):g}_tail_{'on' if tail else 'off'}_at_{mount}"
+    grid = itertools.product(
+        heli.flight, heli.imbalance_mass_factor, heli.rotor_speed_ratio, heli.tail_rotor, heli.mount
+    )
+    for flight, mass, ratio, tail, mount in grid:
+        if flight == "vacuum":
+            name = f"heli_m{float(mass):g}_r{float(ratio):g}_tail_{'on' if tail else 'off'}_at_{mount}"
+        elif tail:
+            name = f"heli_{flight}_m{float(mass):g}_r{float(ratio):g}_at_{mount}"
+        else:
+            continue  # a flying helicopter has its tail rotor on
         specs[name] = {
             "kind": "helicopter",
+            "flight": flight,
             "mass_factor": float(mass),
             "speed_ratio": float(ratio),
             "tail_rotor": tail,
@@ -185,16 +198,22 @@ def split(names, tuning_fraction: float, seed: int) -> dict[str, str]:
 
 
 def helicopter_input(heli: HelicopterRun, spec: dict, options: ScenarioOptions) -> tuple[np.ndarray, MountMotion]:
-    """(time s, mount motion) of one helicopter scenario (module docstring)."""
+    """(time s, mount motion) of one helicopter scenario (module docstring); `heli` a FlightRun for a flight one."""
     ratio = spec["speed_ratio"]
-    tail = heli.tail_rotor.omega_running_rad_s * ratio if spec["tail_rotor"] else 0.0
+    running = heli.tail_rotor.omega_running_rad_s * ratio
     heli = replace(
         heli,
         imbalance=replace(heli.imbalance, mass_factor=spec["mass_factor"]),
         main_rotor=replace(heli.main_rotor, omega_rad_s=heli.main_rotor.omega_rad_s * ratio),
+        tail_rotor=replace(heli.tail_rotor, omega_running_rad_s=running),
+        solver=replace(heli.solver, duration=options.duration_s),
     )
-    heli = heli.with_tail_rotor_speed(tail)
-    run = H.run(heli, replace(heli.solver, duration=options.duration_s))
+    flight = spec.get("flight", "vacuum")
+    if flight == "vacuum":
+        heli = heli.with_tail_rotor_speed(running if spec["tail_rotor"] else 0.0)
+        run = H.run(heli, heli.solver)
+    else:
+        run = H.flight_run(heli, flight)[0]
     case = Case(
         run="run",
         mount=spec["mount"],

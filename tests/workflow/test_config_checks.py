@@ -53,9 +53,11 @@ def test_snakemake_refuses_before_any_job(workdir, case):
 
 
 def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):
-    """A dry run shows the counts and the CPU estimate: 3 x 3 x 2 x 4 grid points, 3 helicopter runs of 4 s and the
-    sensitivity runs (8 of 2 s), 2 cases x 2 K x (5 strategies + 5 candidates + 20 refinements) study runs."""
+    """A dry run shows the counts and the CPU estimate: 3 x 3 x 2 x 4 grid points, 3 helicopter runs of 4 s, the
+    sensitivity runs (8 of 2 s) and the 2 flight runs, each counted as 5 vacuum seconds (budget.FLIGHT_COST) per
+    simulated second of trim (1 s + 12 phases of 0.3 s and two 0.1415 s revolutions), release (1.5 s) and record
+    (4 s): 2 x 67.48 s; 3 cases x 2 K x (5 strategies + 5 candidates + 20 refinements) study runs."""
     work = copy_workflow(tmp_path)
     result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
     assert result.returncode == 0, result.stderr[-2000:]
-    assert "uavdamp plan: 72 grid points, 28 simulated s of helicopter, 120 study runs: about" in result.stderr
+    assert "uavdamp plan: 72 grid points, 162.963 simulated s of helicopter, 180 study runs: about" in result.stderr

@@ -75,7 +75,7 @@ def test_bad_config_refused_before_any_job(tmp_path, path, value, named):
 
 def test_quick_study_end_to_end(quick_run):
     vib = io.open_dataset(quick_run / "reports-quick/helicopter/vibration.nc")
-    assert set(vib.rotor.values) == {"balanced", "imbalanced"}
+    assert set(vib.rotor.values) == {"balanced", "imbalanced", "hover", "forward"}  # the vacuum and the flight runs
     assert list(vib.axis.values) == ["x", "y", "z"]
     assert vib.mount_displacement.dims == ("rotor", "mount", "axis", "time")
     assert vib.dominant_omega.attrs["units"] == "rad s-1"
@@ -90,6 +90,11 @@ def test_quick_study_end_to_end(quick_run):
     assert (quick_run / "reports-quick/figures/fuselage_vibration.png").stat().st_size > 10_000
     assert (quick_run / "reports-quick/logs/helicopter_vibration.log").exists()
     assert (quick_run / "reports-quick/benchmarks/helicopter_run_imbalanced.tsv").exists()
+    # the flight runs: trimmed (trim.nc, one row per flight condition), their lines at 1/rev too
+    trim = io.open_dataset(quick_run / "reports-quick/helicopter/trim.nc")
+    assert list(trim.flight.values) == ["hover", "forward"] and bool((trim.trim_converged == 1).all())
+    assert trim.collective.attrs["units"] == "rad" and trim.main_power.attrs["units"] == "W"
+    assert float(vib.dominant_omega.sel(rotor="hover", mount="cg", axis="y")) == pytest.approx(omega, rel=0.02)
 
 
 def test_every_netcdf_passes_cf_checker(quick_run, tmp_path):

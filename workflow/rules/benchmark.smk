@@ -42,7 +42,7 @@ rule benchmark_scenario:
         ENV
     params:
         inputs=BENCHMARK_INPUTS,
-        helicopter=HELICOPTER_RUN,
+        helicopter=FLIGHT_RUN,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/benchmark_scenario.py"

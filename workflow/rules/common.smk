@@ -3,7 +3,7 @@
 # an edit reruns exactly the stages it affects and reordering a YAML file reruns nothing.
 from uavdamp.anfis import AnfisOptions
 from uavdamp.excitation import ExcitationOptions
-from uavdamp.helicopter import HelicopterRun
+from uavdamp.helicopter import FlightRun, HelicopterRun
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import ReferenceGrid
 from uavdamp.settings import view
@@ -13,10 +13,19 @@ from uavdamp.workflow import canonical
 OUT = config[
     "output_dir"
 ]  # every output, log and benchmark file of the run goes under this folder
-ROTORS = ["balanced", "imbalanced"]  # rotor states of the vibration stage
-RUNS = ROTORS + [
-    "both_rotors"
-]  # helicopter runs; both_rotors: imbalanced, tail rotor turning
+# flight runs (blade-element aerodynamics, gravity, trim, pilot) unless helicopter.aerodynamics.inflow is none
+FLIGHT_RUNS = (
+    ["hover", "forward"]
+    if config["helicopter"]["aerodynamics"]["inflow"] != "none"
+    else []
+)
+VACUUM_RUNS = [
+    "balanced",
+    "imbalanced",
+    "both_rotors",
+]  # the paper's; both_rotors: tail rotor turning
+ROTORS = ["balanced", "imbalanced"] + FLIGHT_RUNS  # runs of the vibration stage
+RUNS = VACUUM_RUNS + FLIGHT_RUNS  # every helicopter run
 ENV = "../envs/uavdamp.yaml"
 
 CAMERA = canonical(config["camera"])
@@ -49,3 +58,5 @@ FLIGHT_LOGS = sorted(config["flight_logs"])
 # A run sees the model and its solver, not the analyses' options, so editing `spectrum`, `campbell` or
 # `sensitivity` reruns only the stage that reads it.
 HELICOPTER_RUN = canonical(view(config["helicopter"], HelicopterRun))
+# a flight run also sees the aerodynamics and the flight (gravity, trim, pilot)
+FLIGHT_RUN = canonical(view(config["helicopter"], FlightRun))

@@ -15,13 +15,47 @@ rule helicopter_run:
     benchmark:
         f"{OUT}/benchmarks/helicopter_run_{{rotor}}.tsv"
     wildcard_constraints:
-        rotor="|".join(RUNS),
+        rotor="|".join(VACUUM_RUNS),
     conda:
         ENV
     params:
         helicopter=HELICOPTER_RUN,
     script:
         "../scripts/helicopter_run.py"
+
+
+rule helicopter_flight:
+    output:
+        run=f"{OUT}/helicopter/runs/{{flight}}.nc",
+        trim=f"{OUT}/helicopter/trims/{{flight}}.nc",
+    log:
+        f"{OUT}/logs/helicopter_flight_{{flight}}.log",
+    benchmark:
+        f"{OUT}/benchmarks/helicopter_flight_{{flight}}.tsv"
+    wildcard_constraints:
+        flight="hover|forward",
+    conda:
+        ENV
+    params:
+        helicopter=FLIGHT_RUN,
+    script:
+        "../scripts/helicopter_flight.py"
+
+
+rule helicopter_trim:
+    input:
+        trims=expand(f"{OUT}/helicopter/trims/{{flight}}.nc", flight=FLIGHT_RUNS),
+    output:
+        f"{OUT}/helicopter/trim.nc",
+    log:
+        f"{OUT}/logs/helicopter_trim.log",
+    conda:
+        ENV
+    params:
+        helicopter=FLIGHT_RUN,
+        flights=FLIGHT_RUNS,
+    script:
+        "../scripts/helicopter_trim.py"
 
 
 rule helicopter_vibration:
@@ -79,8 +113,13 @@ rule helicopter_sensitivity_run:
     conda:
         ENV
     params:
-        helicopter=HELICOPTER_RUN,
+        helicopter=(
+            HELICOPTER_RUN
+            if HELICOPTER_SENSITIVITY["flight"] == "vacuum"
+            else FLIGHT_RUN
+        ),
         duration_s=HELICOPTER_SENSITIVITY["duration_s"],
+        flight=HELICOPTER_SENSITIVITY["flight"],
     script:
         "../scripts/helicopter_sensitivity_run.py"
 

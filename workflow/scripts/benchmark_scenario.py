@@ -1,7 +1,7 @@
 """Snakemake script: one benchmark scenario's mount input (wildcard `scenario`) -> NetCDF."""
 
 from uavdamp import io, scenarios, workflow
-from uavdamp.helicopter import HelicopterRun
+from uavdamp.helicopter import FlightRun
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse
 
@@ -9,7 +9,7 @@ workflow.start_log(snakemake.log[0])
 p = snakemake.params
 options = parse(scenarios.ScenarioOptions, p.inputs, "benchmark")
 params = parse(PlatformParams, p.platform, "platform")
-heli = parse(HelicopterRun, p.helicopter, "helicopter")
+heli = parse(FlightRun, p.helicopter, "helicopter")  # flight scenarios need its aerodynamics
 log = io.open_dataset(snakemake.input.log[0]) if snakemake.input.log else None
 ds = scenarios.scenario_input(snakemake.wildcards.scenario, options, heli, params.time_step, log)
 workflow.log_info(f"{snakemake.wildcards.scenario}: {ds.attrs}")

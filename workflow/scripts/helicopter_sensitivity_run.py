@@ -7,14 +7,15 @@ from uavdamp.helicopter import sensitivity
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
-cfg = snakemake.params.helicopter
-heli = parse(helicopter.HelicopterRun, cfg, "helicopter")
-ds = sensitivity.run(heli, snakemake.wildcards.run, replace(heli.solver, duration=snakemake.params.duration_s))
-workflow.log_info(f"{snakemake.wildcards.run}: done")
+cfg, flight = snakemake.params.helicopter, snakemake.params.flight
+heli = parse(helicopter.HelicopterRun if flight == "vacuum" else helicopter.FlightRun, cfg, "helicopter")
+options = replace(heli.solver, duration=snakemake.params.duration_s)
+ds = sensitivity.run(heli, snakemake.wildcards.run, options, flight)
+workflow.log_info(f"{snakemake.wildcards.run} ({flight}): done")
 io.write_netcdf(
     ds,
     snakemake.output[0],
-    {**cfg, "sensitivity_duration_s": snakemake.params.duration_s},
+    {**cfg, "sensitivity_duration_s": snakemake.params.duration_s, "sensitivity_flight": flight},
     section="helicopter",
     command=workflow.snakemake_command(snakemake),
 )

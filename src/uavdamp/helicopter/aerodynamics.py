@@ -50,7 +50,7 @@ class BladeAero:
     Lengths are from the blade's reference point (the flap hinge, `hinge_offset` from the shaft), so the tip
     radius is hinge_offset + length (5.597 m for uavdamp: hinge 0.687 m + the paper's blade length 4.91 m;
     Padfield's R = 4.91 m is that blade length, kept here as the blade length, with his chord: the solidity is
-    then N c / (pi R) = 0.0614 rather than Padfield's 0.070). Sources of the values: `SOURCES`.
+    then N c / (pi R) = 0.0614 rather than Padfield's 0.070). The values and their sources: config/config.yaml.
     """
 
     n_blades: int = 4
@@ -145,20 +145,8 @@ BO105_TAIL = BladeAero(
     twist_rad=0.0,
     lift_slope=5.7,
 )
-SOURCES = {
-    "chord 0.27 m, main": "Padfield, Helicopter Flight Dynamics, Bo-105 data (as given in the task brief, book not "
-    "searchable here); NASA CR-3144 (Heffley) gives the same, quoted in a public helisim aircraft file",
-    "twist -6.2 deg = -0.1082 rad": "Padfield (as given in the brief); CR-3144 lists -8 deg (same secondary quote)",
-    "lift slope 6.113 /rad": "Padfield (as given in the brief); consistent with Padfield's Lock number 5.09 and "
-    "sigma 0.07 at R 4.91 m: N c / (pi R) = 0.0700, rho a c R^4 / gamma = 231 kg m^2 flap inertia",
-    "C_d0 0.0074": "Padfield's profile drag delta_0 (as given in the brief); his delta_2 multiplies C_T^2, a "
-    "rotor-level polar, so C_d2 = 0 here (assumption)",
-    "alpha_0 0, stall 0.25 rad, no root cut-out": "assumption (linear lift as in Padfield's rotor model)",
-    "tail chord 0.18 m, tail radius 0.95 m, 2 blades": "Padfield (brief) and CR-3144 (secondary quote); the "
-    "uavdamp tail blade is 0.982 m (paper), used here",
-    "tail lift slope 5.7 /rad": "as given in the brief; tail twist 0 and tail C_d0 0.0074: assumption",
-    "air density 1.225 kg/m^3": "ISA sea level",
-}
+# The sourced values live in config/config.yaml (helicopter.aerodynamics.main_blade, tail_blade) with their sources;
+# these defaults are the same numbers (tests/test_helicopter_flight.py checks it) for this module's standalone use.
 
 
 class BladeLoads(NamedTuple):

@@ -16,7 +16,7 @@ imbalance. The fuselage starts with the velocity that makes the total linear mom
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import exudyn as exu
 import exudyn.itemInterface as eii
@@ -137,6 +137,17 @@ def initial_fuselage_velocity(heli: Helicopter) -> np.ndarray:
     return -rotor_momentum / heli.total_mass()
 
 
+def _initial_state(heli: Helicopter, n: int, fix_fuselage: bool) -> tuple[None, np.ndarray]:
+    """(coordinates: None, the tree's default zeros; velocities): rotors at speed, the free fuselage with the
+    velocity that cancels the rotor's linear momentum."""
+    q_t0 = np.zeros(n)
+    if not fix_fuselage:
+        q_t0[:3] = initial_fuselage_velocity(heli)
+    q_t0[HUB_LINK] = heli.main_rotor.omega_rad_s
+    q_t0[-1] = heli.tail_rotor.omega_rad_s
+    return None, q_t0
+
+
 @dataclass
 class Model:
     """An assembled Exudyn system and handles to its parts."""
@@ -146,31 +157,31 @@ class Model:
     node: int
     sensors: dict[str, int]
     link_masses: dict[int, float]
+    constraints: dict[int, int] = field(default_factory=dict)  # tree coordinate -> its CoordinateConstraint
 
 
-def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: bool = False) -> Model:
+def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: bool = False, initial=None) -> Model:
     """Assemble the rotorcraft (no solve).
 
-    fix_fuselage: hold the six fuselage coordinates (hinged-blade eigen-analysis).
+    fix_fuselage: hold the six fuselage coordinates at zero (hinged-blade eigen-analysis, the trim).
     momentum_sensors: add a velocity sensor at every massive link's centre of mass.
+    initial: (coordinates, velocities) of the tree to start from instead of the spinning rotor at rest.
     """
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     links = tree_links(heli)
-    q_t0 = np.zeros(len(links))
-    if not fix_fuselage:
-        q_t0[:3] = initial_fuselage_velocity(heli)
-    q_t0[HUB_LINK] = heli.main_rotor.omega_rad_s
-    q_t0[-1] = heli.tail_rotor.omega_rad_s
-    tree = mbs.CreateKinematicTree(listOfTreeLinks=links, initialCoordinates_t=q_t0, show=False)
+    q_0, q_t0 = _initial_state(heli, len(links), fix_fuselage) if initial is None else initial
+    tree = mbs.CreateKinematicTree(listOfTreeLinks=links, initialCoordinates=q_0, initialCoordinates_t=q_t0, show=False)
     node = mbs.GetObject(tree)["nodeNumber"]
 
     ground = mbs.AddMarker(eii.MarkerNodeCoordinate(nodeNumber=mbs.AddNode(eii.NodePointGround()), coordinate=0))
 
+    constraints = {}
+
     def hold(coordinate: int, speed: float | None) -> None:
-        """Coordinate held at its initial value (speed None) or turning at `speed` rad/s exactly."""
+        """Coordinate held at zero (speed None) or turning at `speed` rad/s exactly."""
         marker = mbs.AddMarker(eii.MarkerNodeCoordinate(nodeNumber=node, coordinate=coordinate))
-        mbs.AddObject(
+        constraints[coordinate] = mbs.AddObject(
             eii.CoordinateConstraint(
                 markerNumbers=[ground, marker], offset=speed or 0.0, velocityLevel=speed is not None
             )
@@ -214,7 +225,7 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
         for k in masses:
             sensors[f"velocity_{k}"] = tree_sensor(k, links[k].linkInertia.COM(), exu.OutputVariableType.Velocity)
     mbs.Assemble()
-    return Model(sc, mbs, node, sensors, masses)
+    return Model(sc, mbs, node, sensors, masses, constraints)
 
 
 def solve(model: Model, options: SolverOptions, progress: str | None = None) -> dict:
@@ -256,14 +267,22 @@ MOTION_ATTRS = {
 }
 
 
-def mount_motion(model: Model, heli: Helicopter) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(time s, displacement (mount, 3, n) m from the start, rotation (3, n) rad) of a solved model (MOTION_ATTRS)."""
+def mount_motion(
+    model: Model, heli: Helicopter, start: float = 0.0, from_start: bool = True
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(time s, displacement (mount, 3, n) m from the start, rotation (3, n) rad) of a solved model (MOTION_ATTRS).
+
+    start: s, the samples before it are dropped and the record starts there (time from 0). from_start False: the
+    rotation is R(t)'s own (relative to the model's axes, for flight runs the trim attitude), not R(t) R(0)^T."""
     names = list(heli.mount_points)
     data = [np.asarray(model.mbs.GetSensorStoredData(model.sensors[f"mount:{n}"])) for n in names]
-    time = data[0][:, 0]
+    first = int(np.searchsorted(data[0][:, 0], start - 1e-9)) if start else 0
+    data = [d[first:] for d in data]
+    time = np.round(data[0][:, 0] - start, 9) if start else data[0][:, 0]  # ns: the record's clock from 0
     displacement = np.stack([(d[:, 1:4] - d[0, 1:4]).T for d in data])
-    matrices = np.asarray(model.mbs.GetSensorStoredData(model.sensors["rotation"]))[:, 1:].reshape(-1, 3, 3)
-    rotation = Rotation.from_matrix(matrices @ matrices[0].T).as_rotvec().T
+    matrices = np.asarray(model.mbs.GetSensorStoredData(model.sensors["rotation"]))[first:, 1:].reshape(-1, 3, 3)
+    relative = matrices @ matrices[0].T if from_start else matrices
+    rotation = Rotation.from_matrix(relative).as_rotvec().T
     return time, displacement, rotation
 
 

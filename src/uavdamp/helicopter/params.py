@@ -1,8 +1,10 @@
 """The helicopter's parameters: the config section ``helicopter`` as typed sections, SI units.
 
     Helicopter          the vehicle: fuselage, main and tail rotor, blade imbalance, platform mount point
-    HelicopterRun       a Helicopter with its solver: what a simulation job sees
-    HelicopterSection   the whole config section: a run plus the analyses' options (spectrum, campbell, sensitivity)
+    HelicopterRun       a Helicopter with its solver: what a vacuum run job sees (the paper's runs)
+    FlightRun           a HelicopterRun with its aerodynamics and flight (gravity, trim, hold): a flight run's job
+    HelicopterSection   the whole config section: a flight run plus the analyses' options (spectrum, campbell,
+                        sensitivity)
 
 Config keys carry their unit (``blade_mass_kg``, ``lag_damping_n_m_s_rad``); the Python names drop it.
 """
@@ -16,6 +18,8 @@ import numpy as np
 from uavdamp.settings import NAME, key_of, require, setting, unknown_key
 
 _W = "helicopter."
+INFLOW_MODELS = ("none", "uniform", "pitt_peters")  # none: no aerodynamics at all (the vacuum model)
+FLIGHTS = ("vacuum", "hover", "forward")  # flight conditions: the paper's vacuum, trimmed hover, forward flight
 
 
 def _positive(value: float, where: str) -> None:
@@ -222,6 +226,120 @@ class Campbell:
         require(self.floquet_steps >= 4, _W + "campbell.floquet_steps", f"must be >= 4, got {self.floquet_steps}")
 
 
+@dataclass(frozen=True)
+class BladeSection:
+    """Airfoil and planform of one rotor's blades (``helicopter.aerodynamics.main_blade`` and ``tail_blade``).
+
+    twist: linear, pitch change from the shaft axis to the tip, rad; root_cutout from the hinge (tail: hub axis), m.
+    Lift a (alpha - alpha_0) clipped at +-stall_angle; drag C_d0 + C_d2 alpha^2 (`uavdamp.helicopter.aerodynamics`).
+    """
+
+    chord: float = setting("chord_m")  # m
+    twist: float = setting("twist_rad")  # rad
+    root_cutout: float = setting("root_cutout_m")  # m
+    lift_slope: float = setting("lift_slope_per_rad")  # rad-1
+    zero_lift_angle: float = setting("zero_lift_angle_rad")  # rad
+    drag_coefficient: float = setting()  # 1, C_d0
+    drag_coefficient_quadratic: float = setting("drag_coefficient_quadratic_per_rad2")  # rad-2, C_d2
+    stall_angle: float = setting("stall_angle_rad")  # rad
+
+    def validate(self, where: str) -> None:
+        for key in ("chord", "lift_slope", "stall_angle"):
+            _positive(getattr(self, key), f"{where}.{key_of(BladeSection, key)}")
+        for key in ("root_cutout", "drag_coefficient", "drag_coefficient_quadratic"):
+            value = getattr(self, key)
+            require(value >= 0, f"{where}.{key_of(BladeSection, key)}", f"must be >= 0, got {value}")
+
+
+@dataclass(frozen=True)
+class Aerodynamics:
+    """Blade-element loads of the flight runs (``helicopter.aerodynamics``); inflow "none" is the vacuum model."""
+
+    inflow: str = setting()  # none | uniform | pitt_peters
+    air_density: float = setting("air_density_kg_m3")  # kg m-3
+    n_stations: int = setting()  # Gauss stations per blade
+    main_blade: BladeSection = setting()
+    tail_blade: BladeSection = setting()
+
+    def validate(self) -> None:
+        where = _W + "aerodynamics."
+        require(self.inflow in INFLOW_MODELS, where + "inflow", f"must be one of {list(INFLOW_MODELS)}")
+        _positive(self.air_density, where + "air_density_kg_m3")
+        require(self.n_stations >= 1, where + "n_stations", f"must be >= 1, got {self.n_stations}")
+
+    @property
+    def enabled(self) -> bool:
+        """False for inflow "none": no aerodynamics, no gravity, no flight runs."""
+        return self.inflow != "none"
+
+
+@dataclass(frozen=True)
+class TrimOptions:
+    """The trim solve (``helicopter.flight.trim``): Newton on the revolution-averaged loads on the held fuselage."""
+
+    settle: float = setting("settle_s")  # s from the start before the first residual
+    step_settle: float = setting("step_settle_s")  # s after each change of the unknowns before the next residual
+    perturbation: float = setting("perturbation_rad")  # rad, finite-difference step of controls and attitude
+    tolerance: float = setting()  # 1, forces over the weight, moments over weight x rotor radius
+    max_iterations: int = setting()  # Newton steps after the finite-difference Jacobian
+
+    def validate(self) -> None:
+        where = _W + "flight.trim."
+        for key in ("settle", "step_settle", "perturbation", "tolerance"):
+            _positive(getattr(self, key), where + key_of(TrimOptions, key))
+        require(self.max_iterations >= 1, where + "max_iterations", f"must be >= 1, got {self.max_iterations}")
+
+
+@dataclass(frozen=True)
+class HoldOptions:
+    """The pilot (``helicopter.flight.hold``): attitude hold on cyclic and tail collective, height hold on
+    collective, PID per axis with closed-loop natural frequency 2 pi bandwidth_hz; a position hold (PD) of natural
+    frequency 2 pi position_bandwidth_hz sets the attitude's roll and pitch (`uavdamp.helicopter.hold`)."""
+
+    enabled: bool = setting()  # false: the controls stay at the trim (open loop)
+    bandwidth_hz: float = setting()  # Hz
+    position_bandwidth_hz: float = setting()  # Hz
+    damping_ratio: float = setting()  # 1
+    integral_time: float = setting("integral_time_s")  # s, Ki = Kp / integral_time
+
+    def validate(self) -> None:
+        where = _W + "flight.hold."
+        ok = self.position_bandwidth_hz < self.bandwidth_hz
+        require(
+            ok, where + "position_bandwidth_hz", f"must be below bandwidth_hz ({self.bandwidth_hz}): the outer loop"
+        )
+        for key in ("bandwidth_hz", "position_bandwidth_hz", "damping_ratio", "integral_time"):
+            _positive(getattr(self, key), where + key_of(HoldOptions, key))
+
+
+@dataclass(frozen=True)
+class Flight:
+    """Gravity, the free stream, the trim and the pilot of the flight runs (``helicopter.flight``)."""
+
+    gravity: float = setting("gravity_m_s2")  # m s-2
+    fuselage_drag_area: float = setting("fuselage_drag_area_m2")  # m2, equivalent flat plate
+    forward_advance_ratio: float = setting()  # 1, free stream over the main rotor tip speed, "forward" run
+    release: float = setting("release_s")  # s of tethered then free flight after the trim, before the record
+    trim: TrimOptions = setting()
+    hold: HoldOptions = setting()
+
+    def validate(self) -> None:
+        where = _W + "flight."
+        _positive(self.gravity, where + "gravity_m_s2")
+        require(self.fuselage_drag_area >= 0, where + "fuselage_drag_area_m2", "must be >= 0")
+        ratio = self.forward_advance_ratio
+        require(0 < ratio <= 0.4, where + "forward_advance_ratio", f"must lie in (0, 0.4], got {ratio}")
+        _positive(self.release, where + "release_s")
+
+
+@dataclass(frozen=True, kw_only=True)
+class FlightRun(HelicopterRun):
+    """A run with aerodynamics, gravity, trim and pilot: the view a flight (hover, forward) job receives."""
+
+    aerodynamics: Aerodynamics
+    flight: Flight
+
+
 # the parameters a sensitivity run may change (how: `uavdamp.helicopter.sensitivity.PARAMETERS`)
 SENSITIVITY_PARAMETERS = (
     "lag_stiffness_n_m_rad",
@@ -237,21 +355,24 @@ SENSITIVITY_PARAMETERS = (
 @dataclass(frozen=True)
 class Sensitivity:
     """One-at-a-time runs of the imbalanced helicopter (``helicopter.sensitivity``): values per parameter
-    (SENSITIVITY_PARAMETERS) and the run length."""
+    (SENSITIVITY_PARAMETERS), the run length and the flight condition (FLIGHTS) of every run."""
 
     duration: float = setting("duration_s")  # s
+    flight: str = setting()  # vacuum | hover | forward
     parameters: dict[str, tuple[float, ...]] = setting()
 
     def validate(self) -> None:
         _positive(self.duration, _W + "sensitivity.duration_s")
+        require(self.flight in FLIGHTS, _W + "sensitivity.flight", f"must be one of {list(FLIGHTS)}")
         for name in self.parameters:
             if name not in SENSITIVITY_PARAMETERS:
                 raise unknown_key(_W + "sensitivity.parameters", name, list(SENSITIVITY_PARAMETERS))
 
 
 @dataclass(frozen=True, kw_only=True)
-class HelicopterSection(HelicopterRun):
-    """The config section ``helicopter``: a run and the options of the vibration, Campbell and sensitivity stages."""
+class HelicopterSection(FlightRun):
+    """The config section ``helicopter``: a flight run and the options of the vibration, Campbell and sensitivity
+    stages."""
 
     spectrum: Spectrum
     campbell: Campbell

@@ -147,11 +147,18 @@ def dominant_lines(
     )
 
 
-def run(heli: Helicopter, name: str, options: SolverOptions) -> xr.Dataset:
-    """One sensitivity run (`name`: "baseline" or "<parameter>=<value>") of the imbalanced helicopter: the
-    `helicopter.run` result on a `run` dimension, with every parameter's value as a coordinate."""
+def run(heli: Helicopter, name: str, options: SolverOptions, flight: str = "vacuum") -> xr.Dataset:
+    """One sensitivity run (`name`: "baseline" or "<parameter>=<value>") of the imbalanced helicopter in flight
+    condition `flight` (vacuum: `helicopter.run`; hover, forward: `helicopter.flight_run`, `heli` a FlightRun): the
+    mount motion on a `run` dimension, with every parameter's value as a coordinate."""
     parameter, value = parse_run_name(name)
-    result = H.run(varied(heli, parameter, value), options)
+    changed = varied(heli, parameter, value)
+    if flight == "vacuum":
+        result = H.run(changed, options)
+    else:
+        from uavdamp.helicopter.flightdata import run as flight_run
+
+        result = flight_run(replace(changed, solver=options), flight)[0][["mount_displacement", "mount_rotation"]]
     values = {p: (value if p == parameter else nominal(heli)) for p, (_, _, _, nominal) in PARAMETERS.items()}
     result.attrs = {}
     return result.expand_dims(run=[name]).assign_coords(

@@ -24,16 +24,30 @@ def _spectra(signals: np.ndarray, dt: float, options: Spectrum) -> tuple[np.ndar
     return freq_hz, np.reshape(spectra, (*shape, -1)), np.reshape(dominant, shape)
 
 
+def _stacked(runs: dict[str, xr.Dataset]) -> xr.Dataset:
+    """The runs' mount motion on a `rotor` dimension (a flight run also holds its pilot's record: left out)."""
+    rotors = list(runs)
+    motion = [runs[r][["mount_displacement", "mount_rotation"]] for r in rotors]
+    if len({m.time.size for m in motion}) != 1 or any(
+        np.abs(m.time.values - motion[0].time.values).max() > 1e-6 for m in motion
+    ):
+        raise ValueError("runs: sampled at different times (every run needs helicopter.solver's duration and step)")
+    # a flight run's times are its record's (start subtracted): the same samples up to round-off
+    ds = xr.concat(motion, dim=xr.DataArray(rotors, dims="rotor"), combine_attrs="override", join="override")
+    ds.attrs = {}
+    return ds
+
+
 def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], options: Spectrum) -> xr.Dataset:
-    """Combine runs keyed by rotor state ("balanced", "imbalanced") with their spectra.
+    """Combine runs keyed by rotor state ("balanced", "imbalanced", and the flight runs "hover", "forward") with their
+    spectra.
 
     Adds the amplitude spectrum of each mount's displacement and of the rotation per axis (Hann window,
     `options.zero_padding` times the length) and the dominant angular frequency above `options.min_omega_rad_s`,
     where the free-floating fuselage's slow rigid-body drift (no aerodynamic restoring force here) is excluded.
     """
     rotors = list(runs)
-    ds = xr.concat([runs[r] for r in rotors], dim=xr.DataArray(rotors, dims="rotor"), combine_attrs="override")
-    ds.attrs = {}
+    ds = _stacked(runs)
     ds["rotor"].attrs = {"units": "1", "long_name": "main rotor state"}
     spacing = np.diff(ds.time.values)
     dt = float(spacing.mean())
@@ -70,6 +84,11 @@ def vibration(heli: Helicopter, runs: dict[str, xr.Dataset], options: Spectrum) 
         "rotor",
         [runs[r].attrs["rotor_angle_error_rad"] for r in rotors],
         {"units": "rad", "long_name": "main rotor angle minus Omega t at the end of the run"},
+    )
+    ds["flight"] = (
+        "rotor",
+        [runs[r].attrs.get("flight", "vacuum") for r in rotors],
+        {"units": "1", "long_name": "flight condition (vacuum: no aerodynamics or gravity, the paper's)"},
     )
     ds["mass_imbalance_factor"] = (
         "rotor",

@@ -45,8 +45,12 @@ def fuselage_vibration_figure(ds: xr.Dataset, window_s: float = 5.0, mount: str 
             fontsize=8,
             bbox={"boxstyle": "round,pad=0.2", "fc": "w", "ec": "none", "alpha": 0.8},
         )
-        shown = spec.sel(omega=slice(0, 120))
-        clip_log_range(ax, shown.values, SPECTRUM_DYNAMIC_RANGE)
+        shown = spec.sel(omega=slice(0, 120)).values
+        if "hover" in ds.rotor.values:  # the flight run: trimmed hover with aerodynamics, gravity and pilot
+            hover = 1e3 * ds.amplitude_spectrum.sel(rotor="hover", axis=axis)
+            ax.semilogy(ds.omega, hover, "g-", lw=0.8)
+            shown = np.concatenate([shown, hover.sel(omega=slice(0, 120)).values])
+        clip_log_range(ax, shown, SPECTRUM_DYNAMIC_RANGE)
         ax.set(
             xlim=(0, 120),
             xlabel="angular frequency (rad/s)",
