@@ -295,3 +295,22 @@ def planar_cases(name: str, time, y, z):
 def mount_yz(response):
     """A plant response's mount translation on the isolator's axes (y, z), m, dims (axis, time)."""
     return response["mount_displacement"].sel(mount_axis=["y", "z"]).rename(mount_axis="axis")
+
+
+def vibration_dataset(t, omega, displacement, spectrum, dominant) -> xr.Dataset:
+    """The vibration stage's layout for one mount point "cg": displacement (rotor, axis, time), m, spectrum
+    (rotor, axis, omega), m, dominant (rotor, axis), rad s-1, rotors imbalanced and balanced."""
+    return xr.Dataset(
+        {
+            "mount_displacement": (("rotor", "mount", "axis", "time"), np.asarray(displacement)[:, None]),
+            "amplitude_spectrum": (("rotor", "mount", "axis", "omega"), np.asarray(spectrum)[:, None]),
+            "dominant_omega": (("rotor", "mount", "axis"), np.asarray(dominant)[:, None]),
+        },
+        coords={
+            "rotor": ["imbalanced", "balanced"],
+            "mount": ["cg"],
+            "axis": ["x", "y", "z"],
+            "time": t,
+            "omega": omega,
+        },
+    )

@@ -107,15 +107,20 @@ def test_one_se_ties_go_to_the_lower_error_then_the_earlier_candidate():
         model_selection.choose(mean, se, np.ones(4), "smallest")
 
 
-def test_cv_record_has_each_candidates_regret_on_the_held_out_rows():
-    """cv_regret_mean/max: the regret of every training row predicted by the fold model that held it out."""
-    table = smooth_table()
+def quadratic_grid(table: xr.Dataset) -> xr.Dataset:
+    """A grid whose criterion is 1 + (log10 C - log10 C_opt)^2 around the table's optimum (regret in closed form)."""
     c = np.geomspace(0.1, 100, 9)
     crit = 1 + (np.log10(c)[None, None, None, :] - np.log10(table.damping_opt.values)[..., None]) ** 2
-    grid = xr.Dataset(
+    return xr.Dataset(
         {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
         coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
     )
+
+
+def test_cv_record_has_each_candidates_regret_on_the_held_out_rows():
+    """cv_regret_mean/max: the regret of every training row predicted by the fold model that held it out."""
+    table = smooth_table()
+    grid = quadratic_grid(table)
     options = typed(OPTIONS)
     _, record, _ = learning.train(table, grid, options)
     X, y, _ = learning.table_samples(table)
@@ -190,12 +195,7 @@ def test_linear_interpolation_baseline():
 def test_all_baselines_and_regret_per_model():
     """(The table is a plane in C: the GP's noise level and length scales run to their bounds, and say so.)"""
     table = smooth_table()
-    c = np.geomspace(0.1, 100, 9)
-    crit = 1 + (np.log10(c)[None, None, None, :] - np.log10(table.damping_opt.values)[..., None]) ** 2
-    grid = xr.Dataset(
-        {"criterion": (("freq_y", "freq_z", "stiffness", "damping"), crit)},
-        coords={**{k: table[k] for k in learning.INPUTS}, "damping": c},
-    )
+    grid = quadratic_grid(table)
     options = {**OPTIONS, "baselines": list(baselines.BASELINES), "log_stiffness": True, "log_damping": True}
     _, record, _ = learning.train(table, grid, typed(options))
     assert list(record.model.values) == ["anfis", *baselines.BASELINES]

@@ -5,8 +5,8 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
-import xarray as xr
 from conftest import displacement_grid as synthetic_grid
+from conftest import vibration_dataset
 
 from uavdamp.plots.helicopter import fuselage_vibration_figure
 from uavdamp.plots.reference_table import GAIN_LABEL, SPREAD_LABEL, reference_table_figure
@@ -53,20 +53,7 @@ def test_fuselage_vibration_figure_shows_the_runs_in_mm():
     )
     disp[1] *= 0.1  # the balanced rotor
     omega = np.linspace(0, 200, 201)
-    ds = xr.Dataset(
-        {
-            "mount_displacement": (("rotor", "mount", "axis", "time"), disp[:, None]),
-            "amplitude_spectrum": (("rotor", "mount", "axis", "omega"), np.ones((2, 1, 3, omega.size)) * 1e-4),
-            "dominant_omega": (("rotor", "mount", "axis"), np.array([[[0.0, 44.0, 50.3]], [[0.0, 44.0, 50.3]]])),
-        },
-        coords={
-            "rotor": ["imbalanced", "balanced"],
-            "mount": ["cg"],
-            "axis": ["x", "y", "z"],
-            "time": t,
-            "omega": omega,
-        },
-    )
+    ds = vibration_dataset(t, omega, disp, np.ones((2, 3, omega.size)) * 1e-4, [[0.0, 44.0, 50.3], [0.0, 44.0, 50.3]])
     fig = fuselage_vibration_figure(ds, window_s=5.0)
     try:
         z_ax, y_ax = fig.axes[0], fig.axes[2]

@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import xarray as xr  # noqa: E402
+from conftest import vibration_dataset  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from uavdamp import io  # noqa: E402
@@ -231,20 +232,7 @@ def test_spectra_are_clipped_above_numerical_noise():
     omega = np.linspace(0, 200, 201)
     spectrum = np.full((2, 3, omega.size), 1e-18)
     spectrum[:, :, 44] = 1e-3
-    ds = xr.Dataset(
-        {
-            "mount_displacement": (("rotor", "mount", "axis", "time"), np.zeros((2, 1, 3, t.size))),
-            "amplitude_spectrum": (("rotor", "mount", "axis", "omega"), spectrum[:, None]),
-            "dominant_omega": (("rotor", "mount", "axis"), np.full((2, 1, 3), 44.0)),
-        },
-        coords={
-            "rotor": ["imbalanced", "balanced"],
-            "mount": ["cg"],
-            "axis": ["x", "y", "z"],
-            "time": t,
-            "omega": omega,
-        },
-    )
+    ds = vibration_dataset(t, omega, np.zeros((2, 3, t.size)), spectrum, np.full((2, 3), 44.0))
     fig = helicopter.fuselage_vibration_figure(ds)
     try:
         for ax in (fig.axes[1], fig.axes[3]):
