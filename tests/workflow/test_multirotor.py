@@ -48,7 +48,7 @@ def test_the_flight_log_stage_writes_the_logs_motion_and_its_spectra(multirotor_
 
 def test_the_study_runs_on_windows_of_the_flight_as_measured(multirotor_run):
     cases = io.open_dataset(multirotor_run / "excitation" / "cases.nc")
-    assert list(cases.source.values) == ["flight log 'quadrotor'"] * 2
+    assert list(cases.source.values) == ["flight log 'quadrotor'"] * 3  # case1-3: three windows of the flight
     np.testing.assert_array_equal(cases.scale.values, 1.0)
     log = io.open_dataset(multirotor_run / "flight_logs" / "quadrotor.nc")
     start = 3.5 - float(log.attrs["log_window_s"][0])  # case1's window start on the log's time axis
