@@ -96,8 +96,6 @@ class BenchmarkOptions:
     camera: CameraModel | None = attached()
 
     def validate(self) -> None:
-        unknown = sorted(set(self.controllers) - set(strategies.REGISTRY))
-        require(not unknown, "benchmark.controllers", f"unknown {unknown} (known: {sorted(strategies.REGISTRY)})")
         require("rigid" in self.controllers, "benchmark.controllers", "must hold rigid (the criteria's reference)")
         require(self.damper_lag > 0, "benchmark.damper_lag_s", "must be > 0")
         for key, values in (("stiffness_n_m", self.stiffness),):

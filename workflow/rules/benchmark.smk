@@ -53,6 +53,7 @@ rule benchmark_tune:
         scenarios=expand(
             f"{OUT}/benchmark/scenarios/{{scenario}}.nc", scenario=BENCHMARK_TUNING
         ),
+        plugins=PLUGINS,
     output:
         f"{OUT}/benchmark/tuned/K{{stiffness}}.nc",
     log:
@@ -78,6 +79,7 @@ rule benchmark_run:
         tuned=BENCHMARK_TUNED,
         model=f"{OUT}/anfis/model.nc",
         table=f"{OUT}/reference_table/table.nc",
+        plugins=PLUGINS,
     output:
         f"{OUT}/benchmark/runs/{{scenario}}.nc",
     log:
@@ -103,6 +105,7 @@ rule benchmark_gather:
             f"{OUT}/benchmark/runs/{{scenario}}.nc", scenario=BENCHMARK_SCENARIOS
         ),
         tuned=BENCHMARK_TUNED,
+        plugins=PLUGINS,
     output:
         criteria=f"{OUT}/benchmark/criteria.nc",
         table=f"{OUT}/benchmark/table.md",

@@ -20,6 +20,9 @@ RUNS = ROTORS + [
 ENV = "../envs/uavdamp.yaml"
 
 CAMERA = canonical(config["camera"])
+PLUGINS = list(
+    config["plugins"]
+)  # plug-in law files: inputs of the rules that import them (uavdamp.plugins)
 PLATFORM = canonical(  # the platform stage: the platform and its response figure (not the stroke budget)
     {
         **view(config["platform"], PlatformParams),

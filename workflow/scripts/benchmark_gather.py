@@ -4,6 +4,7 @@ from uavdamp import benchmark, io, workflow
 from uavdamp.plots import benchmark as plots
 
 workflow.start_log(snakemake.log[0])
+workflow.load_plugins(snakemake)  # before any strategy is named
 runs = [io.open_dataset(path) for path in snakemake.input.runs]
 tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
 ds = benchmark.gather(runs, dict(snakemake.params.split), tuned)

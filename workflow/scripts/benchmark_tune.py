@@ -10,6 +10,7 @@ from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
 options = dataclasses.replace(options, stiffness=(float(snakemake.wildcards.stiffness),))
