@@ -1,6 +1,6 @@
 """Snakemake script: every benchmark controller on one scenario (wildcard `scenario`) -> its criteria."""
 
-from uavdamp import benchmark, io, workflow
+from uavdamp import actuation, benchmark, io, workflow
 from uavdamp.anfis import DampingModel
 from uavdamp.config import benchmark_options
 from uavdamp.platform import PlatformParams
@@ -19,7 +19,10 @@ ds = benchmark.run_scenario(
     options,
     model=model,
     table=io.open_dataset(snakemake.input.table),
+    mr=actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None,
+    step_check=bool(p.step_check),
 )
-workflow.log_info(ds.J.sel(damper="ideal").to_dataframe().J.unstack("criterion").to_string())
+for damper in ds.damper.values:
+    workflow.log_info(f"{damper}:\n" + ds.J.sel(damper=damper).to_dataframe().J.unstack("criterion").to_string())
 config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform": p.platform}
 io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))
