@@ -121,11 +121,37 @@ def planned_rules(result: subprocess.CompletedProcess) -> set[str]:
     return {line.split()[0] for line in table.splitlines()[2:] if line.strip()}
 
 
+# The session's quick run also carries a plug-in law from outside the package (the worked example of
+# docs/submit-a-law.md), registered through the config alone: this override file names it.
+PLUGIN_FILE = "plugins/my_laws.py"  # in the run directory: a copy of examples/my_laws.py
+PLUGIN_LAW = "frequency_ratio"
+QUICK_RUN_ARGS = ("--configfile", "config/quick.yaml", "config/plugin.yaml")
+
+
+def plugin_override() -> dict:
+    """config/plugin.yaml of the quick run: the plug-in file, and its law added to the study and the benchmark."""
+    quick = load_config("quick.yaml")
+    return {
+        "plugins": [PLUGIN_FILE],
+        "study": {"strategies": [*quick["study"]["strategies"], PLUGIN_LAW]},
+        "benchmark": {"controllers": [*quick["benchmark"]["controllers"], PLUGIN_LAW]},
+    }
+
+
+def quick_run_config() -> dict:
+    """The merged config of the session's quick run (quick.yaml and the plug-in override)."""
+    return deep_update(load_config("quick.yaml"), plugin_override())
+
+
 @pytest.fixture(scope="session")
 def quick_run(tmp_path_factory) -> Path:
-    """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per session."""
+    """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per session,
+    with the plug-in law of `plugin_override`."""
     workdir = copy_workflow(tmp_path_factory.mktemp("quick"))
-    result = snakemake(workdir, "-j2", "all", "benchmark", "--configfile", "config/quick.yaml")
+    (workdir / PLUGIN_FILE).parent.mkdir()
+    shutil.copy(ROOT / "examples" / "my_laws.py", workdir / PLUGIN_FILE)
+    (workdir / "config" / "plugin.yaml").write_text(yaml.safe_dump(plugin_override()))
+    result = snakemake(workdir, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
     return workdir
 

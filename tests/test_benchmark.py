@@ -4,7 +4,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from conftest import load_config, typed_config
+from conftest import PLUGIN_FILE, PLUGIN_LAW, QUICK_RUN_ARGS, load_config, planned_rules, quick_run_config, typed_config
 
 from uavdamp import benchmark, io, scenarios
 from uavdamp.anfis import DampingModel
@@ -156,6 +156,51 @@ def test_benchmark_target_runs_end_to_end(quick_run):
     ds = io.open_dataset(quick_run / "reports-quick/benchmark/criteria.nc")
     split = scenarios.split(scenarios.scenario_specs(BENCH), SPLIT.tuning_fraction, SPLIT.seed)
     assert sorted(ds.scenario.values) == sorted(split)
-    assert list(ds.controller.values) == list(BENCH_CONTROLLERS)
+    assert list(ds.controller.values) == quick_run_config()["benchmark"]["controllers"]  # with the plug-in law
     assert np.all(np.isfinite(ds.J.sel(controller="table_lookup", criterion="displacement_std")))
     np.testing.assert_allclose(ds.J.sel(controller="rigid"), 1.0)
+
+
+def test_a_plugin_law_reaches_the_study_and_the_benchmark_through_the_config_alone(quick_run):
+    """The session's quick run names examples/my_laws.py (a copy, outside the package) in `plugins` and its law in
+    study.strategies and benchmark.controllers: it ran in both, and every output that imported it records the
+    file's path and SHA-256."""
+    import hashlib
+    import json
+
+    digest = hashlib.sha256((quick_run / PLUGIN_FILE).read_bytes()).hexdigest()
+    comparison = io.open_dataset(quick_run / "reports-quick/study/comparison.nc")
+    criteria = io.open_dataset(quick_run / "reports-quick/benchmark/criteria.nc")
+    assert PLUGIN_LAW in comparison.strategy.values and PLUGIN_LAW in criteria.controller.values
+    assert np.all(np.isfinite(comparison.std_total.sel(strategy=PLUGIN_LAW)))
+    j = criteria.J.sel(controller=PLUGIN_LAW, criterion="displacement_std")
+    assert np.all(np.isfinite(j)) and np.all(j > 0)
+    runs = sorted((quick_run / "reports-quick/benchmark/runs").glob("*.nc"))
+    for ds in (comparison, criteria, io.open_dataset(runs[0])):
+        assert json.loads(ds.attrs["plugins"]) == [{"path": PLUGIN_FILE, "sha256": digest}]
+
+
+def test_editing_the_plugin_replans_the_rules_that_import_it(quick_run):
+    """Dry runs on the quick run: nothing to do; after an edit of the plug-in file, the study and the benchmark's
+    tuning, runs and gather (and their targets), nothing upstream. The file is restored, mtime included."""
+    import os
+
+    path = quick_run / PLUGIN_FILE
+    before = snakemake_dry(quick_run)
+    assert before == set(), before
+    text, stat = path.read_text(), path.stat()
+    try:
+        path.write_text(text + "\n# edited\n")
+        after = snakemake_dry(quick_run)
+    finally:
+        path.write_text(text)
+        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    assert after == {"study", "benchmark_tune", "benchmark_run", "benchmark_gather", "all", "benchmark"}, after
+
+
+def snakemake_dry(workdir):
+    from conftest import snakemake
+
+    result = snakemake(workdir, "-n", "-j1", "all", "benchmark", *QUICK_RUN_ARGS, timeout=300)
+    assert result.returncode == 0, result.stderr[-3000:]
+    return planned_rules(result)

@@ -60,6 +60,12 @@ BAD = {
     ),
     "early-window-after-run": ({"study": {"early_s": 3.0}}, "study.early_s: (3.0 s) must lie inside study.duration_s"),
     "unknown-strategy": ({"study": {"strategies": ["passive", "telepathy"]}}, "study.strategies: unknown strategy"),
+    "unknown-controller": (
+        {"benchmark": {"controllers": ["rigid", "telepathy"]}},
+        "benchmark.controllers: unknown strategy ['telepathy']",
+    ),
+    "missing-plugin-file": ({"plugins": ["nowhere/laws.py"]}, "plugins: no file 'nowhere/laws.py'"),
+    "plugin-not-python": ({"plugins": ["laws.txt"]}, "plugins.0: 'laws.txt' does not match"),
     "grid-over-budget": (
         {"reference_table": {"freq_y_hz": {"num": 1000}, "freq_z_hz": {"num": 1000}, "damping_n_s_m": {"num": 1000}}},
         "budget.max_cpu_hours: the run is estimated at 55.6 CPU hours (grid 2,000,000,000 points",

@@ -7,17 +7,20 @@ import pytest
 import xarray as xr
 import yaml
 from conftest import (
+    QUICK_RUN_ARGS,
     camera_of,
+    deep_update,
     excitation_options,
     planar_cases,
     planned_rules,
     platform_from,
+    quick_run_config,
     sine_yz,
     snakemake,
     study_options_of,
 )
 
-from uavdamp import excitation, io, laws, metrics, strategies, study
+from uavdamp import checks, excitation, io, laws, metrics, strategies, study
 from uavdamp.contract import MountMotion
 
 
@@ -100,7 +103,7 @@ def test_comparison_layout(comparison, quick_config):
     assert ds.tracked_freq.dims == ("case", "axis", "update_time")
     for name in ("peak_early", "std_total"):
         assert ds[name].dims == ("case", "stiffness", "strategy", "axis") and ds[name].attrs["units"] == "m"
-    assert list(ds.strategy.values) == quick_config["study"]["strategies"]
+    assert list(ds.strategy.values) == quick_run_config()["study"]["strategies"]  # with the plug-in law
     assert list(ds.stiffness.values) == quick_config["study"]["stiffness_n_m"]
     assert ds.camera_yaw.dims == ds.camera_pitch.dims == ("case", "stiffness", "strategy", "time")
     assert np.all(np.isnan(ds.damping.sel(strategy="rigid")))
@@ -135,7 +138,8 @@ def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
     config["anfis"]["epochs"] = config["anfis"]["epochs"] + 7
     edited = quick_run / "config" / "quick_anfis_edit.yaml"
     edited.write_text(yaml.safe_dump(config))
-    result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", str(edited.relative_to(quick_run)), timeout=300)
+    edit = ("--configfile", str(edited.relative_to(quick_run)), "config/plugin.yaml")  # the run's plug-in kept
+    result = snakemake(quick_run, "-n", "-j1", "all", *edit, timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
     assert planned_rules(result) == {"anfis", "study", "summary", "all"}, result.stdout[-3000:]
 
@@ -147,8 +151,7 @@ def test_html_report(quick_run):
         "reports-quick/report.html",
         "all",
         "benchmark",
-        "--configfile",
-        "config/quick.yaml",
+        *QUICK_RUN_ARGS,
         timeout=600,
     )
     assert result.returncode == 0, result.stderr[-3000:]
@@ -202,9 +205,12 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
 
 
 def test_unknown_strategy_is_refused_naming_it(quick_config):
+    """Before any job (`uavdamp.checks`, after the plug-ins load), and by the factory lookup in a job."""
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
     with pytest.raises(ValueError, match=r"study.strategies: unknown strategy \['telepathy'\]"):
-        study_options_of({**cfg, "strategies": ["passive", "telepathy"]})
+        checks.validate(deep_update(quick_config, {"study": {"strategies": ["passive", "telepathy"]}}))
+    with pytest.raises(ValueError, match=r"unknown strategy 'telepathy'"):
+        strategies.build("telepathy", None)
     with pytest.raises(ValueError, match="study.stiffness_n_m: values must be unique"):
         study_options_of({**cfg, "stiffness_n_m": [10.0, 10.0]})
 

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from uavdamp import budget
+from uavdamp import budget, plugins, strategies
 from uavdamp.config import Config, load
 from uavdamp.contract import is_multiple
 from uavdamp.platform import PlatformParams, design_stiffness
-from uavdamp.settings import require
+from uavdamp.settings import ConfigError, require
 from uavdamp.workflow import check_schema
 
 SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
@@ -27,9 +27,26 @@ def validate(mapping: dict, schema_path=SCHEMA) -> tuple[Config, dict]:
     return typed, check_config(typed)
 
 
+def check_names(config: Config) -> None:
+    """Load the plug-ins (``plugins``, `uavdamp.plugins`), then every name of study.strategies and
+    benchmark.controllers must be registered (`uavdamp.strategies.REGISTRY`: the one list for both)."""
+    try:
+        plugins.load(config.plugins)
+    except FileNotFoundError as error:
+        raise ConfigError(str(error)) from None
+    known = sorted(strategies.REGISTRY)
+    for key, names in (
+        ("study.strategies", config.study.strategies),
+        ("benchmark.controllers", config.benchmark.controllers),
+    ):
+        unknown = sorted(set(names) - set(known))
+        require(not unknown, key, f"unknown strategy {unknown} (known: {known}; a plug-in adds its own: plugins)")
+
+
 def check_config(config: Config) -> dict:
     """Raise ConfigError naming the first key that breaks a rule across sections (see the module docstring) or a
     run estimated above the budget; return the estimate (`uavdamp.budget`)."""
+    check_names(config)
     _check_platform(config.platform)
     _check_frequencies(config)
     _check_study(config)

@@ -48,6 +48,7 @@ class Config:
     """The whole config, every section typed."""
 
     output_dir: str  # folder (relative, no ..) every output goes under
+    plugins: tuple[str, ...]  # plug-in law files (.py, relative to the run directory): `uavdamp.plugins`
     helicopter: HelicopterSection
     platform: PlatformSection
     reference_table: ReferenceTableSection

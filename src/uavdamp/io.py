@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from uavdamp import plugins
+
 CONVENTIONS = "CF-1.11"
 REFERENCE = (
     "Marichal G.N. et al. (2014) Vibration reduction for vision systems on board UAV using a "
@@ -102,6 +104,7 @@ def with_provenance(ds: xr.Dataset, config: dict, *, section: str, command: str 
             "package_versions": json.dumps(package_versions(), sort_keys=True),
             f"config_{section}": json.dumps(config, sort_keys=True, default=json_default),
             **json.loads(os.environ.get(PROVENANCE_ENV, "{}")),
+            **plugins.provenance(),
         }
     )
     return out

@@ -267,7 +267,7 @@ def clairvoyant(ctx: Context) -> Strategy:
         candidates=candidates,
         update_period=period,
         beam_width=o.beam_width,
-        criterion=o.criterion,
+        criterion=getattr(o, "criterion", "camera_std"),
     )
     info = {
         "clairvoyant_cost": (

@@ -42,8 +42,6 @@ class StudyOptions:
     camera: CameraModel | None = attached()
 
     def validate(self) -> None:
-        unknown = sorted(set(self.strategies) - set(strategies.REGISTRY))
-        require(not unknown, "study.strategies", f"unknown strategy {unknown} (known: {sorted(strategies.REGISTRY)})")
         require(len(set(self.strategies)) == len(self.strategies), "study.strategies", "names must be unique")
         require(len(set(self.stiffness)) == len(self.stiffness), "study.stiffness_n_m", "values must be unique")
 

@@ -49,6 +49,16 @@ def check_schema(config: dict, schema_path: str | os.PathLike) -> None:
         raise ConfigError(f"{key}: {error.message} (config schema: {Path(schema_path).name})")
 
 
+def load_plugins(smk) -> list[dict]:
+    """Import the job's plug-in law files (its input `plugins`, `uavdamp.plugins`) and log their SHA-256."""
+    from uavdamp import plugins
+
+    records = plugins.load(list(getattr(smk.input, "plugins", [])))
+    for record in records:
+        log_info(f"plug-in {record['path']} sha256 {record['sha256']}")
+    return records
+
+
 def log_info(message: str) -> None:
     logging.getLogger("uavdamp").info(message)
 

@@ -21,6 +21,26 @@ BENCHMARK_TUNED = expand(
     f"{OUT}/benchmark/tuned/K{{stiffness}}.nc", stiffness=BENCHMARK_STIFFNESS
 )
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
+# the MR damper, built once (uavdamp.actuation.MRSpec): an input of the jobs that run it
+BENCHMARK_MR = (
+    [f"{OUT}/benchmark/mr_damper.nc"] if "mr" in BENCHMARK["dampers"] else []
+)
+BENCHMARK_CHECKED = list(BENCHMARK["step_check"]["scenarios"])
+
+
+rule benchmark_mr_damper:
+    output:
+        f"{OUT}/benchmark/mr_damper.nc",
+    log:
+        f"{OUT}/logs/benchmark_mr_damper.log",
+    benchmark:
+        f"{OUT}/benchmarks/benchmark_mr_damper.tsv"
+    conda:
+        ENV
+    params:
+        mr=canonical(BENCHMARK["mr"]),
+    script:
+        "../scripts/benchmark_mr_damper.py"
 
 
 rule benchmark_scenario:
@@ -53,6 +73,8 @@ rule benchmark_tune:
         scenarios=expand(
             f"{OUT}/benchmark/scenarios/{{scenario}}.nc", scenario=BENCHMARK_TUNING
         ),
+        plugins=PLUGINS,
+        mr=BENCHMARK_MR,
     output:
         f"{OUT}/benchmark/tuned/K{{stiffness}}.nc",
     log:
@@ -78,6 +100,8 @@ rule benchmark_run:
         tuned=BENCHMARK_TUNED,
         model=f"{OUT}/anfis/model.nc",
         table=f"{OUT}/reference_table/table.nc",
+        plugins=PLUGINS,
+        mr=BENCHMARK_MR,
     output:
         f"{OUT}/benchmark/runs/{{scenario}}.nc",
     log:
@@ -93,6 +117,7 @@ rule benchmark_run:
         tracking=BENCHMARK_TRACKING,
         camera=CAMERA,
         platform=PLATFORM_MODEL,
+        step_check=lambda wc: wc.scenario in BENCHMARK_CHECKED,
     script:
         "../scripts/benchmark_run.py"
 
@@ -103,6 +128,7 @@ rule benchmark_gather:
             f"{OUT}/benchmark/runs/{{scenario}}.nc", scenario=BENCHMARK_SCENARIOS
         ),
         tuned=BENCHMARK_TUNED,
+        plugins=PLUGINS,
     output:
         criteria=f"{OUT}/benchmark/criteria.nc",
         table=f"{OUT}/benchmark/table.md",

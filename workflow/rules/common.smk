@@ -29,6 +29,9 @@ RUNS = VACUUM_RUNS + FLIGHT_RUNS  # every helicopter run
 ENV = "../envs/uavdamp.yaml"
 
 CAMERA = canonical(config["camera"])
+PLUGINS = list(
+    config["plugins"]
+)  # plug-in law files: inputs of the rules that import them (uavdamp.plugins)
 PLATFORM = canonical(  # the platform stage: the platform and its response figure (not the stroke budget)
     {
         **view(config["platform"], PlatformParams),

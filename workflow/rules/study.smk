@@ -20,6 +20,7 @@ rule study:
     input:
         cases=f"{OUT}/excitation/cases.nc",
         model=f"{OUT}/anfis/model.nc",
+        plugins=PLUGINS,
     output:
         comparison=f"{OUT}/study/comparison.nc",
         fig10=report(

@@ -4,10 +4,11 @@ from uavdamp import benchmark, io, workflow
 from uavdamp.plots import benchmark as plots
 
 workflow.start_log(snakemake.log[0])
+workflow.load_plugins(snakemake)  # before any strategy is named
 runs = [io.open_dataset(path) for path in snakemake.input.runs]
 tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
 ds = benchmark.gather(runs, dict(snakemake.params.split), tuned)
-table = plots.markdown_table(ds) + "\n" + plots.markdown_table(ds, damper="lagged")
+table = "\n".join(plots.markdown_table(ds, damper=str(d)) for d in ds.damper.values)
 workflow.log_info(table)
 io.write_text(table, snakemake.output.table)
 io.save_figure(plots.criteria_figure(ds), snakemake.output.figure)

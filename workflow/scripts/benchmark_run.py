@@ -1,12 +1,13 @@
 """Snakemake script: every benchmark controller on one scenario (wildcard `scenario`) -> its criteria."""
 
-from uavdamp import benchmark, io, workflow
+from uavdamp import actuation, benchmark, io, workflow
 from uavdamp.anfis import DampingModel
 from uavdamp.config import benchmark_options
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
 model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
@@ -18,7 +19,10 @@ ds = benchmark.run_scenario(
     options,
     model=model,
     table=io.open_dataset(snakemake.input.table),
+    mr=actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None,
+    step_check=bool(p.step_check),
 )
-workflow.log_info(ds.J.sel(damper="ideal").to_dataframe().J.unstack("criterion").to_string())
+for damper in ds.damper.values:
+    workflow.log_info(f"{damper}:\n" + ds.J.sel(damper=damper).to_dataframe().J.unstack("criterion").to_string())
 config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform": p.platform}
 io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))

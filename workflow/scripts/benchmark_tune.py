@@ -4,17 +4,19 @@ only -> tuned/K<stiffness>.nc."""
 import dataclasses
 from pathlib import Path
 
-from uavdamp import benchmark, io, workflow
+from uavdamp import actuation, benchmark, io, workflow
 from uavdamp.config import benchmark_options
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
 options = dataclasses.replace(options, stiffness=(float(snakemake.wildcards.stiffness),))
 inputs = {Path(path).stem: io.open_dataset(path) for path in snakemake.input.scenarios}
-tuned = benchmark.tune(inputs, parse(PlatformParams, p.platform, "platform"), options)
+mr = actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None
+tuned = benchmark.tune(inputs, parse(PlatformParams, p.platform, "platform"), options, mr=mr)
 workflow.log_info(f"tuned on {sorted(inputs)}:\n{tuned.to_dataframe().to_string()}")
 config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform": p.platform}
 io.write_netcdf(tuned, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))

@@ -11,6 +11,7 @@ from uavdamp.plots import study as plots
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 cfg, fig = p.study, p.figures
 options = study_options(cfg, p.camera)

@@ -54,23 +54,54 @@ def boxplot_figure(ds: xr.Dataset, criteria=("los_std", "blur_p95", "displacemen
     return fig
 
 
+def ranking(ds: xr.Dataset, stiffness: float, criterion: str, damper: str) -> str:
+    """The best two controllers on a criterion's evaluation mean J; for a frame-phase criterion, whether the lead
+    exceeds the spread over the frame clock's phase (the leader's highest-phase mean below the runner-up's lowest)."""
+    at = {"stiffness": stiffness, "damper": damper}
+    mean = ds.J_mean.sel(criterion=criterion, **at).to_series().drop("rigid", errors="ignore").dropna().sort_values()
+    if mean.size < 2:
+        return f"{criterion}: fewer than two controllers"
+    first, second = mean.index[:2]
+    text = f"{criterion}: {first} {mean.iloc[0]:.3g} < {second} {mean.iloc[1]:.3g}"
+    if "phased" in ds.dims and criterion in ds.phased.values:
+        high = float(ds.J_high_mean.sel(phased=criterion, controller=first, **at))
+        low = float(ds.J_low_mean.sel(phased=criterion, controller=second, **at))
+        verdict = "beyond the frame-phase spread" if high < low else "within the frame-phase spread: no ranking"
+        text += f" ({first} up to {high:.3g}, {second} from {low:.3g}: {verdict})"
+    return text
+
+
 def markdown_table(ds: xr.Dataset, damper: str = "ideal", criteria=None) -> str:
-    """The README table: mean / worst J per controller and criterion over the evaluation set, per stiffness."""
+    """The README table: mean / worst J per controller and criterion over the evaluation set, per stiffness; a
+    frame-phase criterion also gives [lowest - highest phase] means; then the leader per criterion (`ranking`)."""
     criteria = list(ds.criterion.values) if criteria is None else list(criteria)
+    phased = list(ds.phased.values) if "phased" in ds.dims else []
     lines = []
     for k in ds.stiffness.values:
         lines += [
-            f"K = {k:g} N/m, {damper} damper (mean / worst J over the evaluation set; J = 1: rigid)",
+            f"K = {k:g} N/m, {damper} damper (mean / worst J over the evaluation set; J = 1: rigid; "
+            "[..]: the frame-phase spread of the mean; '-': not run, see tuned_on)",
             "",
             "| controller | " + " | ".join(criteria) + " |",
             "|---" * (len(criteria) + 1) + "|",
         ]
         for c in ds.controller.values:
-            cells = [
-                f"{float(ds.J_mean.sel(controller=c, stiffness=k, damper=damper, criterion=x)):.3g} / "
-                f"{float(ds.J_worst.sel(controller=c, stiffness=k, damper=damper, criterion=x)):.3g}"
-                for x in criteria
-            ]
+            cells = []
+            for x in criteria:
+                at = {"controller": c, "stiffness": k, "damper": damper}
+                cell = f"{float(ds.J_mean.sel(criterion=x, **at)):.3g} / {float(ds.J_worst.sel(criterion=x, **at)):.3g}"
+                if x in phased:
+                    low, high = (float(ds[v].sel(phased=x, **at)) for v in ("J_low_mean", "J_high_mean"))
+                    cell += f" [{low:.3g}-{high:.3g}]"
+                cells.append(cell)
             lines.append(f"| {c} | " + " | ".join(cells) + " |")
-        lines.append("")
+        lines += ["", *(f"- {ranking(ds, k, x, damper)}" for x in criteria), ""]
+    if "tuned_on" in ds.coords:
+        tuned = {
+            str(c): sorted({str(v) for v in ds.tuned_on.sel(controller=c).values} - {""}) for c in ds.controller.values
+        }
+        lines += [
+            "Tuned on (per criterion family): " + "; ".join(f"{c}: {', '.join(v)}" for c, v in tuned.items() if v),
+            "",
+        ]
     return "\n".join(lines)

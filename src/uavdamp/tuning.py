@@ -1,0 +1,205 @@
+"""The benchmark's runs and tuning: each law under each damper model, tuned per criterion family on the tuning set.
+
+    Runner(params, options, ...)   the plants of one platform: `context` for a scenario and K, `run` of a strategy
+                                   under a damper (`uavdamp.actuation`)
+    tune(inputs, params, options)  every tuned parameter per family (benchmark.tuning.criteria: one criterion per
+                                   family, `uavdamp.scoring.FAMILIES`) and stiffness, on the tuning scenarios only
+    merge_tuned, tuned_at          the tuning jobs' datasets as one; the parameters at (K, criterion)
+
+Each parameter of a controller minimises the mean over the tuning scenarios of J[criterion] by
+`strategies.best_constant` in its range (the hybrid's gain for each alpha), once per tuning criterion; runs are
+shared between the criteria (one run gives every J). A law decided every solver step is tuned, like it is run, with
+the first of benchmark.per_step_dampers; every other law with the ideal damper.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+from threadpoolctl import threadpool_limits
+
+from uavdamp import actuation, scoring, strategies
+from uavdamp.contract import DamperBounds, MountMotion
+from uavdamp.platform import force_coupling
+from uavdamp.platform.linear_plant import LinearPlant
+from uavdamp.semi_active import Lagged
+
+# tuned parameter -> (controller, the TuningOptions field of its search range, units)
+TUNED = {
+    "passive_damping": ("passive_tuned", "damping_range", "N s m-1"),
+    "skyhook_c_max": ("skyhook_on_off", "damping_range", "N s m-1"),
+    "skyhook_gain": ("skyhook_clipped", "gain_range", "N s m-1"),
+    "groundhook_gain": ("groundhook", "gain_range", "N s m-1"),
+    "hybrid_gain": ("hybrid", "gain_range", "N s m-1"),
+    "clipped_optimal_r_scale": ("clipped_optimal", "r_scale_range", "N"),
+}
+_UNITS = {**{k: v[2] for k, v in TUNED.items()}, "hybrid_alpha": "1", "clipped_optimal_q_scale": "m"}
+TUNED_CONTROLLERS = {v[0] for v in TUNED.values()}
+
+
+def case_of(ds: xr.Dataset) -> tuple:
+    """(time s, MountMotion) of a scenario's input dataset."""
+    return ds.time.values, MountMotion(ds.mount_displacement.values, ds.mount_rotation.values)
+
+
+class Runner:
+    """The plants of one platform (isolated and rigid linear plants) and the damper models of the benchmark."""
+
+    def __init__(self, params, options, model=None, table=None, mr=None):
+        self.params, self.options, self.model, self.table, self.mr = params, options, model, table, mr
+        self.isolated = LinearPlant.from_params(params)
+        self.rigid = LinearPlant.from_params(params, mount="rigid")
+
+    def context(self, case: tuple, stiffness: float, tuned: dict) -> strategies.Context:
+        def run(strategy, law=None):  # a trial run (searches): the ideal damper
+            plant = self.rigid if strategy.mount == "rigid" else self.isolated
+            return plant.run(*case, stiffness=stiffness, law=strategy.law if law is None else law)
+
+        return strategies.Context(
+            self.options,
+            self.params,
+            self.model,
+            float(stiffness),
+            run,
+            tuned=tuned,
+            table=self.table,
+            case_input=case,
+            linear=self.isolated,
+        )
+
+    def runs_with(self, strategy, damper: str) -> bool:
+        """False where the benchmark does not run this law with this damper: a per-step law outside
+        benchmark.per_step_dampers (its J is NaN there)."""
+        if strategy.law is None or not actuation.is_per_step(strategy.law, self.params.time_step):
+            return True
+        return damper in self.options.per_step_dampers
+
+    def tuning_damper(self, strategy) -> str:
+        """The damper a law is tuned with (module docstring)."""
+        per_step = strategy.law is not None and actuation.is_per_step(strategy.law, self.params.time_step)
+        return self.options.per_step_dampers[0] if per_step else "ideal"
+
+    def run(self, ctx: strategies.Context, strategy, damper: str) -> xr.Dataset:
+        """One run of `strategy` in the context's scenario and K with the named damper (`uavdamp.actuation`)."""
+        if strategy.mount == "rigid":
+            return self.rigid.run(*ctx.case_input, stiffness=ctx.stiffness)
+        law, per_step = strategy.law, actuation.is_per_step(strategy.law, self.params.time_step)
+        if damper == "ideal" and not per_step:
+            return self.isolated.run(*ctx.case_input, stiffness=ctx.stiffness, law=law)
+        if damper == "lagged" and not per_step:  # exact: the lag's C on the grid, one step map per value
+            inner = self.params.update_period if law.update_period is None else law.update_period
+            lagged = Lagged(law, self.options.damper_lag, self.params.time_step, inner, ctx.bounds)
+            return self.isolated.run(*ctx.case_input, stiffness=ctx.stiffness, law=lagged)
+        return force_coupling.run(
+            self.isolated, *ctx.case_input, stiffness=ctx.stiffness, law=law, damper=self.force_damper(damper)
+        )
+
+    def force_damper(self, damper: str):
+        if damper == "ideal":
+            return force_coupling.Viscous()
+        if damper == "lagged":
+            return actuation.Lag(self.options.damper_lag)
+        if damper == "mr":
+            if self.mr is None:
+                raise ValueError("the mr damper needs its MRSpec (benchmark/mr_damper.nc)")
+            return actuation.MRDamper(self.mr)
+        raise ValueError(f"benchmark.dampers: unknown {damper!r} (known: {list(actuation.DAMPERS)})")
+
+
+def tune(inputs: dict[str, xr.Dataset], params, options, mr=None) -> xr.Dataset:
+    """Tuned parameters per (tuning criterion, stiffness) from the tuning scenarios `inputs` ({name: input dataset})
+    only (module docstring)."""
+    o, runner = options.tuning, Runner(params, options, mr=mr)
+    cases = [case_of(ds) for ds in inputs.values()]
+    out = {}
+    with threadpool_limits(1):
+        for stiffness in options.stiffness:
+            rigid = [
+                scoring.response_metrics(
+                    runner.rigid.run(*c, stiffness=stiffness), options.camera, options.frame_phases
+                )
+                for c in cases
+            ]
+            evaluated: dict = {}  # (controller, key, alpha, value) -> [J dict per case]: shared by the criteria
+            for criterion in o.criteria:
+                tuned = {"clipped_optimal_q_scale": o.q_scale}
+                for key, (controller, field, _) in TUNED.items():
+                    if controller not in options.controllers:
+                        continue
+                    search = _Search(runner, cases, rigid, stiffness, tuned, evaluated, criterion)
+                    if key == "hybrid_gain":
+                        value, cost, alpha = min(
+                            (*search.best(key, controller, alpha, getattr(o, field)), alpha) for alpha in o.hybrid_alpha
+                        )
+                        tuned["hybrid_alpha"] = out[("hybrid_alpha", criterion, stiffness)] = alpha
+                    else:
+                        value, cost = search.best(key, controller, None, getattr(o, field))
+                    tuned[key] = out[(key, criterion, stiffness)] = value
+                    out[(f"{key}_cost", criterion, stiffness)] = cost
+    return _tuned_dataset(out, options, list(inputs))
+
+
+class _Search:
+    """The search of one parameter for one criterion: mean J[criterion] over the tuning cases, runs cached."""
+
+    def __init__(self, runner, cases, rigid, stiffness, tuned, evaluated, criterion):
+        self.runner, self.cases, self.rigid, self.stiffness = runner, cases, rigid, stiffness
+        self.tuned, self.evaluated, self.criterion = tuned, evaluated, criterion
+
+    def j(self, key, controller, alpha, value) -> list[dict]:
+        memo = (controller, key, alpha, float(value))  # a factory reads its own parameters only
+        if memo not in self.evaluated:
+            trial = {**self.tuned, key: value, **({"hybrid_alpha": alpha} if alpha is not None else {})}
+            found = []
+            for case, ref in zip(self.cases, self.rigid, strict=True):
+                ctx = self.runner.context(case, self.stiffness, trial)
+                strategy = strategies.build(controller, ctx)
+                response = self.runner.run(ctx, strategy, self.runner.tuning_damper(strategy))
+                found.append(scoring.criteria(response, ref, ctx.options.camera, ctx.options.frame_phases)[0])
+            self.evaluated[memo] = found
+        return self.evaluated[memo]
+
+    def best(self, key, controller, alpha, value_range) -> tuple[float, float]:
+        """(best value, its mean J) in value_range."""
+        o = self.runner.options.tuning
+
+        def cost(value: float) -> float:
+            values = [j[self.criterion] for j in self.j(key, controller, alpha, value)]
+            return float(np.mean(values)) if all(math.isfinite(v) for v in values) else math.inf
+
+        lo, hi = value_range
+        grid = np.geomspace(lo, hi, o.n_candidates)
+        return strategies.best_constant(cost, grid, DamperBounds(lo, hi), maxiter=o.max_refine)
+
+
+def _tuned_dataset(out: dict, options, names: list[str]) -> xr.Dataset:
+    ks, crit = list(options.stiffness), list(options.tuning.criteria)
+    data = {}
+    for key in sorted({k for k, _, _ in out}):
+        long_name = "mean J[tuned_for] on the tuning set" if key.endswith("_cost") else f"tuned {key}"
+        values = [[out[(key, c, k)] for k in ks] for c in crit]
+        data[key] = (("tuned_for", "stiffness"), values, {"units": _UNITS.get(key, "1"), "long_name": long_name})
+    data["clipped_optimal_q_scale"] = (
+        ("tuned_for", "stiffness"),
+        np.full((len(crit), len(ks)), options.tuning.q_scale),
+        {"units": "m", "long_name": "clipped-optimal camera weight scale (fixed)"},
+    )
+    coords = {
+        "stiffness": ("stiffness", ks, {"units": "N m-1", "long_name": "isolator K"}),
+        "tuned_for": ("tuned_for", crit, {"units": "1", "long_name": "the criterion the parameters minimise"}),
+    }
+    return xr.Dataset(data, coords=coords, attrs={"tuning_scenarios": ", ".join(names)})
+
+
+def merge_tuned(parts: list[xr.Dataset]) -> xr.Dataset:
+    """Tuned datasets of single stiffnesses (one tuning job each) as one, over stiffness."""
+    merged = xr.concat(parts, dim="stiffness", data_vars="all", join="outer", combine_attrs="override")
+    return merged.sortby("stiffness")
+
+
+def tuned_at(tuned: xr.Dataset, stiffness: float, criterion: str) -> dict:
+    """{parameter: value} of the tuned dataset at one stiffness, tuned for `criterion` (costs left out)."""
+    at = tuned.sel(stiffness=stiffness, tuned_for=criterion)
+    return {k: float(at[k]) for k in tuned.data_vars if not k.endswith("_cost")}
