@@ -30,9 +30,9 @@ from uavdamp.camera import CameraModel
 from uavdamp.scoring import FAMILIES, J_CRITERIA, PHASED, RESOURCES
 from uavdamp.settings import attached, require, setting
 from uavdamp.tracking import TrackerOptions
-from uavdamp.tuning import TUNED_CONTROLLERS, Runner, case_of, merge_tuned, tune, tuned_at
+from uavdamp.tuning import TUNED_CONTROLLERS, Runner, case_of, merge_tuned, plant_params, tune, tuned_at
 
-__all__ = ["BenchmarkOptions", "gather", "merge_tuned", "run_scenario", "tune", "tuned_at"]
+__all__ = ["BenchmarkOptions", "gather", "merge_tuned", "plant_params", "run_scenario", "tune", "tuned_at"]
 BOUND_OF = {"displacement": "camera_std", "line_of_sight": "los_std"}  # family -> the clairvoyant's objective
 
 
@@ -105,6 +105,7 @@ class BenchmarkOptions:
     dampers: tuple[str, ...] = setting()  # damper models (uavdamp.actuation.DAMPERS)
     per_step_dampers: tuple[str, ...] = setting()  # the dampers a law decided every solver step runs with
     damper_lag: float = setting("damper_lag_s")  # s, first-order lag of the lagged damper
+    time_step: float | None = setting("time_step_s", default=None)  # s, the benchmark plant's step; None: platform's
     mr: MROptions = setting()
     frame_phases: int = setting()  # frame-clock starts over one frame period (uavdamp.scoring)
     step_check: StepCheck = setting()
@@ -125,6 +126,8 @@ class BenchmarkOptions:
         extra = sorted(set(self.per_step_dampers) - set(self.dampers))
         require(bool(self.per_step_dampers) and not extra, w + "per_step_dampers", f"{extra} not in benchmark.dampers")
         require(self.frame_phases >= 1, w + "frame_phases", f"must be >= 1, got {self.frame_phases}")
+        step = self.time_step
+        require(step is None or 0 < step <= 0.1, w + "time_step_s", f"must be null or in (0, 0.1] s, got {step}")
 
 
 def _runs(name: str, options: BenchmarkOptions) -> list[tuple[str | None, tuple]]:
@@ -168,6 +171,7 @@ def run_scenario(
     """Criteria of every controller on one scenario: J (controller, stiffness, criterion, damper), the frame-phase
     spread, resources (controller, stiffness, family, damper) and, with `step_check`, each per-step law's
     `step_difference` (ValueError naming a law above benchmark.step_check.tolerance)."""
+    params = plant_params(params, options)
     runner, case = Runner(params, options, model, table, mr), case_of(ds)
     half = Runner(_half_step(params), options, model, table, mr) if step_check else None
     nc, nk, nd = len(options.controllers), len(options.stiffness), len(options.dampers)

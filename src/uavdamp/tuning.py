@@ -14,6 +14,7 @@ the first of benchmark.per_step_dampers; every other law with the ideal damper.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -108,10 +109,18 @@ class Runner:
         raise ValueError(f"benchmark.dampers: unknown {damper!r} (known: {list(actuation.DAMPERS)})")
 
 
+def plant_params(params, options):
+    """The platform parameters the benchmark's plants step with: the solver step benchmark.time_step_s where set
+    (a law decided every step is decided at this rate), else the platform's."""
+    if options.time_step is None:
+        return params
+    return dataclasses.replace(params, solver=dataclasses.replace(params.solver, time_step=options.time_step))
+
+
 def tune(inputs: dict[str, xr.Dataset], params, options, mr=None) -> xr.Dataset:
     """Tuned parameters per (tuning criterion, stiffness) from the tuning scenarios `inputs` ({name: input dataset})
-    only (module docstring)."""
-    o, runner = options.tuning, Runner(params, options, mr=mr)
+    only (module docstring), on the plant of `plant_params`."""
+    o, runner = options.tuning, Runner(plant_params(params, options), options, mr=mr)
     cases = [case_of(ds) for ds in inputs.values()]
     out = {}
     with threadpool_limits(1):
