@@ -11,10 +11,11 @@ onstart:
 
 
 rule verify:
+    log:
+        f"{OUT}/logs/verify.log",
+    conda:
+        ENV
     params:
         out=OUT,
-    run:
-        if output_check.main([params.out]) != 0:
-            raise ValueError(
-                f"verify: corrupt outputs under {params.out} (listed above): delete them and rerun all"
-            )
+    script:
+        "../scripts/verify.py"
