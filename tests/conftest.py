@@ -340,3 +340,18 @@ def vibration_dataset(t, omega, displacement, spectrum, dominant) -> xr.Dataset:
             "omega": omega,
         },
     )
+
+
+def flip_byte_in_data(path: Path, values: np.ndarray) -> int:
+    """Flip one byte of `path` inside the stored data of a variable whose values are `values` (float64 or int):
+    the first element whose 8 bytes occur exactly once in the file (uncompressed HDF5 chunks hold the values as
+    they are in memory, little-endian); its lowest mantissa byte is XOR-ed with 1. Returns the byte's offset."""
+    data = bytearray(path.read_bytes())
+    for value in np.ravel(np.asarray(values, dtype="<f8")):
+        pattern = value.tobytes()
+        offset = data.find(pattern)
+        if offset >= 0 and data.find(pattern, offset + 1) < 0:
+            data[offset] ^= 1
+            path.write_bytes(bytes(data))
+            return offset
+    raise AssertionError(f"{path}: no value of the variable found once in the file")

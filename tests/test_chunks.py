@@ -5,8 +5,12 @@ from __future__ import annotations
 import json
 import multiprocessing
 import shutil
+import time
+from functools import partial
 
+import numpy as np
 import pytest
+import xarray as xr
 from conftest import snakemake
 
 from uavdamp import io
@@ -29,14 +33,85 @@ def test_a_second_writer_stops_at_once_naming_the_file(tmp_path):
     holder.start()
     try:
         assert ready.wait(60)
-        with pytest.raises(ValueError, match=r"2-of-3.nc: another process is writing this chunk"):
-            with chunks.exclusive(target):
+        with pytest.raises(ValueError, match=rf"2-of-3.nc: another process \(.*~{holder.pid}, host~pid\) has held"):
+            with chunks.exclusive(target, wait_s=0.3):
                 pass
     finally:
         release.set()
         holder.join(30)
     with chunks.exclusive(target):  # free again once the holder is gone
         pass
+
+
+POINTS = np.array([3, 4, 7])
+MADE_WITH = {"reference_table": {"duration": 1.0}, "camera": {}, "platform": {}}
+
+
+def _valid_chunk(path) -> None:
+    ds = xr.Dataset(
+        {
+            "criterion_displacement": (("window", "point"), [[1.0, 2.0, 3.0]], {"units": "m", "long_name": "c"}),
+            "failed": ("point", np.zeros(3, dtype=np.int8), {"units": "1", "long_name": "failed"}),
+        },
+        coords={
+            "point": ("point", POINTS, {"units": "1", "long_name": "point"}),
+            "window": ("window", ["transient"], {"units": "1", "long_name": "window"}),
+        },
+    )
+    io.write_netcdf(ds, path, MADE_WITH, section="reference_table")
+
+
+def _hold_then_write(path, ready, go):
+    with chunks.exclusive(path):
+        ready.set()
+        go.wait(30)
+        time.sleep(0.5)  # the second job is waiting by now
+        _valid_chunk(path)
+
+
+def test_a_job_that_finds_its_chunk_locked_waits_and_keeps_the_holders_finished_chunk(tmp_path):
+    """The --unlock race: another run's job holds the chunk's lock; this job waits, finds the chunk the holder
+    wrote valid and keeps it (same bytes, same mtime) without computing; it succeeds."""
+    target = tmp_path / "chunks" / "1-of-3.nc"
+    ctx = multiprocessing.get_context("spawn")
+    ready, go = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=_hold_then_write, args=(str(target), ready, go))
+    holder.start()
+    try:
+        assert ready.wait(60)
+        go.set()
+
+        def make():
+            raise AssertionError("recomputed a chunk another run had finished")
+
+        finished = partial(chunks.finished_chunk, points=POINTS, config=MADE_WITH)
+        assert not target.exists()
+        assert io.write_guarded(target, make, finished=finished, wait_s=60) is False
+    finally:
+        holder.join(30)
+    written = (target.read_bytes(), target.stat().st_mtime_ns)
+    assert holder.exitcode == 0 and chunks.finished_chunk(target, points=POINTS, config=MADE_WITH)
+    assert (target.read_bytes(), target.stat().st_mtime_ns) == written
+    assert not list(target.parent.glob(".*.lock.holder"))
+
+
+def test_a_holders_chunk_of_another_config_is_recomputed_and_a_free_lock_computes(tmp_path):
+    target = tmp_path / "2-of-3.nc"
+    ctx = multiprocessing.get_context("spawn")
+    ready, go = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=_hold_then_write, args=(str(target), ready, go))
+    holder.start()
+    made = []
+    try:
+        assert ready.wait(60)
+        go.set()
+        other = partial(chunks.finished_chunk, points=POINTS, config={**MADE_WITH, "camera": {"x": 1}})
+        assert io.write_guarded(target, lambda: made.append("waited"), finished=other, wait_s=60) is True
+    finally:
+        holder.join(30)
+    # nobody holds the lock: computed, even though a finished chunk is there (Snakemake asked for it)
+    assert io.write_guarded(target, lambda: made.append("free"), finished=lambda p: True) is True
+    assert made == ["waited", "free"]
 
 
 def test_a_killed_holder_releases_the_lock(tmp_path):

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import json
+import multiprocessing
 import os
 import stat
+import time
 
 import numpy as np
 import pytest
@@ -71,3 +73,114 @@ def test_outputs_get_umask_permissions(tmp_path):
         os.umask(old)
     assert stat.S_IMODE(path.stat().st_mode) == 0o644
     assert stat.S_IMODE(text.stat().st_mode) == 0o644
+
+
+def _pattern_dataset(kind: str) -> xr.Dataset:
+    """Small datasets shaped as a grid chunk, model.nc and comparison.nc, of a known float pattern 1 + k / 7."""
+    values = 1.0 + np.arange(24.0) / 7.0
+    attrs = {"units": "m", "long_name": "criterion"}
+    dims = {
+        "chunk": ("window", "point"),
+        "model": ("rule", "input"),
+        "comparison": ("case", "strategy"),
+    }[kind]
+    shape = (4, 6)
+    coords = {d: (d, np.arange(n), {"units": "1", "long_name": d}) for d, n in zip(dims, shape, strict=True)}
+    return xr.Dataset({"criterion_displacement": (dims, values.reshape(shape), attrs)}, coords=coords)
+
+
+@pytest.mark.parametrize("kind", ["chunk", "model", "comparison"])
+def test_a_flipped_byte_in_a_data_variable_is_refused_naming_the_file(tmp_path, kind):
+    from conftest import flip_byte_in_data
+
+    ds = _pattern_dataset(kind)
+    path = io.write_netcdf(ds, tmp_path / f"{kind}.nc", {}, section="demo")
+    xr.testing.assert_equal(io.open_dataset(path).criterion_displacement, ds.criterion_displacement)
+    flip_byte_in_data(path, ds.criterion_displacement.values)
+    with pytest.raises(io.CorruptOutput, match=f"^{path}: corrupt or truncated") as error:
+        io.open_dataset(path)
+    assert f"rebuild it: rm {path} && snakemake -j2 all" in str(error.value)
+    assert isinstance(error.value, ValueError) and isinstance(error.value, OSError)
+
+
+def test_every_variable_with_dimensions_carries_fletcher32(tmp_path):
+    import netCDF4
+
+    path = io.write_netcdf(small_dataset(), tmp_path / "f.nc", {}, section="demo")
+    with netCDF4.Dataset(path) as raw:
+        assert {name: raw[name].filters()["fletcher32"] for name in raw.variables} == {
+            "displacement": True,
+            "axis": True,
+            "time": True,
+        }
+
+
+@pytest.mark.parametrize("keep", [0, 100, 0.5, 0.99])
+def test_a_truncated_file_is_refused_naming_the_file(tmp_path, keep):
+    path = io.write_netcdf(_pattern_dataset("chunk"), tmp_path / "t.nc", {}, section="demo")
+    data = path.read_bytes()
+    path.write_bytes(data[: int(keep * len(data)) if isinstance(keep, float) else keep])
+    with pytest.raises(io.CorruptOutput, match=f"^{path}: corrupt or truncated.*rebuild it: rm {path}"):
+        io.open_dataset(path)
+
+
+def test_a_missing_file_is_not_called_corrupt(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no such file"):
+        io.open_dataset(tmp_path / "none.nc")
+
+
+def test_benchmark_outputs_are_rebuilt_by_the_benchmark_target():
+    assert io.rebuild_command("reports/benchmark/runs/a.nc").startswith(
+        "rm reports/benchmark/runs/a.nc && snakemake -j2 benchmark "
+    )
+    assert "snakemake -j2 all " in io.rebuild_command("reports/study/comparison.nc")
+
+
+def _hold_and_write(path, config, ready, go):
+    with io.exclusive(path):
+        ready.set()
+        go.wait(30)
+        time.sleep(0.5)  # the second writer is waiting by now
+        io.write_netcdf(small_dataset(), path, config, section="benchmark")
+
+
+@pytest.mark.parametrize("same_config", [True, False])
+def test_write_once_waits_for_the_holder_and_keeps_its_output_of_the_same_config(tmp_path, same_config):
+    """A benchmark output another run's job is writing: the second job waits, keeps the holder's file if made
+    with its config (bytes and mtime unchanged), else writes its own."""
+    target = tmp_path / "benchmark" / "runs" / "sweep.nc"
+    ctx = multiprocessing.get_context("spawn")
+    ready, go = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=_hold_and_write, args=(str(target), {"seed": 1}, ready, go))
+    holder.start()
+    made = []
+    try:
+        assert ready.wait(60)
+        go.set()
+        config = {"seed": 1 if same_config else 2}
+        done = io.write_once(target, lambda: made.append(1), config, section="benchmark", wait_s=60)
+    finally:
+        holder.join(30)
+    assert holder.exitcode == 0
+    assert done is (not same_config) and made == ([] if same_config else [1])
+
+
+def test_a_lock_held_too_long_names_its_holder(tmp_path):
+    target = tmp_path / "b.nc"
+    ctx = multiprocessing.get_context("spawn")
+    ready, go = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=_hold_and_write, args=(str(target), {}, ready, go))
+    holder.start()
+    try:
+        assert ready.wait(60)
+        with pytest.raises(ValueError, match=rf"b.nc: another process \(.+~{holder.pid}, host~pid\) has held its lock"):
+            io.write_once(
+                target,
+                lambda: None,
+                {},
+                section="benchmark",
+                wait_s=0.3,
+            )
+    finally:
+        go.set()
+        holder.join(30)

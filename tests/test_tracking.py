@@ -59,9 +59,7 @@ def test_esprit_finds_lines_and_amplitudes_of_a_noise_free_sum_exactly():
     # the model (sines plus a straight line) is exact here: frequencies and amplitudes to rounding
     t = np.arange(500) * 0.002
     x = _lines(t, [(6.07, 0.5, 0.3), (7.07, 1.1, 1.0), (7.99, 1.7, 2.0)], seed=0) + 0.3 + 0.2 * t
-    freq, amp = tracking.esprit_lines(x, 0.002, 3)
-    line = freq > 1.0  # the straight line is a double pole at z = 1: a (near-)zero frequency, if any
-    freq, amp = freq[line], amp[line]
+    freq, amp = tracking.esprit_lines(x, 0.002, 3)  # the straight line's double pole at z = 1 is not a line
     np.testing.assert_allclose(freq, [6.07, 7.07, 7.99], rtol=1e-6)
     np.testing.assert_allclose(amp, [0.5, 1.1, 1.7], rtol=1e-5)
 
@@ -151,6 +149,30 @@ def test_esprit_resolves_two_close_lines_with_their_amplitudes():
     freq, amp = tracking.esprit_lines(TWO_LINES, DT, 2)
     np.testing.assert_allclose(freq, [5.0, 5.6], rtol=1e-9)
     np.testing.assert_allclose(amp, [2.0, 0.7], rtol=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_esprit_leaves_a_noisy_trends_near_dc_poles_out_of_its_lines(seed):
+    """A steep straight line (5 units/s, 25 times the tones' amplitude over the window) plus the two tones and 1 %
+    noise: the trend's double pole splits into a pair near z = 1 with a large amplitude (0.02-0.03 Hz, about 30
+    units, before the cut at 1 / (N dt) = 1 Hz); only the tones are lines, and with no lower band edge the dominant
+    one is still the 2-unit tone at 5 Hz."""
+    noise = 0.02 * np.random.default_rng(200 + seed).standard_normal(T.size)
+    x = TWO_LINES + 5.0 * T + noise
+    freq, amp = tracking.esprit_lines(x, DT, 2)
+    assert tracking.trend_cutoff_hz(T.size, DT) == pytest.approx(1.0 / (500 * DT))
+    assert freq.size == 2 and np.all(freq >= 1.0)
+    np.testing.assert_allclose(freq, [5.0, 5.6], atol=0.1)  # noise-limited, as the noisy tests above
+    found = tracking.esprit_dominant(x, DT, model_order=2, min_freq_hz=0.0, max_freq_hz=12.0)
+    assert found == pytest.approx(5.0, abs=0.1)
+
+
+def test_esprit_keeps_a_line_of_two_cycles_in_the_window():
+    """The cut is the resolution, one cycle in the window: a 2 Hz tone in a 1 s window is a line."""
+    x = np.sin(2 * np.pi * 2.0 * T + 0.4) + 0.5 * T
+    freq, amp = tracking.esprit_lines(x, DT, 1)
+    np.testing.assert_allclose(freq, [2.0], rtol=1e-6)
+    np.testing.assert_allclose(amp, [1.0], rtol=1e-5)
 
 
 def test_esprit_dominant_band_edges_are_inclusive_and_constant_segments_are_nan():

@@ -64,6 +64,11 @@ class TrackerOptions:
         require(self.initial_freq_hz > 0, f"{KEY}.initial_freq_hz", f"must be positive, got {self.initial_freq_hz!r}")
 
 
+def trend_cutoff_hz(n: int, dt: float) -> float:
+    """The frequency resolution 1 / (n dt), Hz, of n samples every dt s: ESPRIT poles below it are the trend."""
+    return 1.0 / (n * dt)
+
+
 def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.ndarray, np.ndarray]:
     """(freq_hz, amplitude) of the lines LS-ESPRIT finds in `segment` (sampled every dt s), ascending frequency.
 
@@ -75,10 +80,12 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     are the model's poles, f = arg(z) / (2 pi dt). The amplitudes come from a least-squares fit of
     all the (possibly damped) exponentials z^n to the segment: amplitude = 2 |c| times the
     RMS of the envelope |z|^n over the window (the signal's unit). Poles with arg 0 or pi (real z) are
-    left out of the result, and so are the straight line's: its double pole at z = 1 is split by round-off
-    into a pair at |arg z| of order sqrt(eps) (a double eigenvalue moves by the square root of a perturbation),
-    so poles with |arg z| < n sqrt(eps) rad (a millionth of a cycle per sample or less at n = 500) are the
-    trend, not lines (machine-independent: no line of the tracker's band comes near it).
+    left out of the result, and so are the straight line's: its double pole at z = 1 splits into a pair near
+    z = 1 (by round-off, |arg z| ~ sqrt(eps), a double eigenvalue moving by the square root of a perturbation;
+    by noise, far more: 0.02-0.03 Hz in a 1 s window at 1 % noise). The cut is the frequency resolution
+    1 / (N dt) (`trend_cutoff_hz`): a pole of less than one cycle in the window cannot be told from the trend
+    (over less than a period a sinusoid and a straight line are nearly collinear), and no line of the
+    tracker's band is below it once min_cycles >= 1 periods of min_freq_hz are in the window.
     """
     x = np.asarray(segment, dtype=float)
     n = x.size
@@ -98,8 +105,8 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     with threadpool_limits(1):
         coef = scipy.linalg.lstsq(basis, x.astype(complex))[0]
     angle = np.angle(z)
-    trend = n * np.sqrt(np.finfo(float).eps)  # rad: the round-off split of the line's double pole at z = 1
-    line = (angle > trend) & (angle < np.pi - 1e-9)
+    trend = 2 * np.pi * dt * trend_cutoff_hz(n, dt)  # rad per sample: the trend's split pole pair is below it
+    line = (angle >= trend) & (angle < np.pi - 1e-9)
     order = np.argsort(angle[line])
     return angle[line][order] / (2 * np.pi * dt), 2 * np.abs(coef[line][order])
 

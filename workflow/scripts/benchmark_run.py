@@ -10,19 +10,27 @@ workflow.start_log(snakemake.log[0])
 workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
-model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
-tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
-ds = benchmark.run_scenario(
-    io.open_dataset(snakemake.input.scenario),
-    tuned,
-    parse(PlatformParams, p.platform, "platform"),
-    options,
-    model=model,
-    table=io.open_dataset(snakemake.input.table),
-    mr=actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None,
-    step_check=bool(p.step_check),
-)
-for damper in ds.damper.values:
-    workflow.log_info(f"{damper}:\n" + ds.J.sel(damper=damper).to_dataframe().J.unstack("criterion").to_string())
 config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform": p.platform}
-io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))
+
+
+def make() -> None:
+    model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
+    tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
+    ds = benchmark.run_scenario(
+        io.open_dataset(snakemake.input.scenario),
+        tuned,
+        parse(PlatformParams, p.platform, "platform"),
+        options,
+        model=model,
+        table=io.open_dataset(snakemake.input.table),
+        mr=actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None,
+        step_check=bool(p.step_check),
+    )
+    for damper in ds.damper.values:
+        workflow.log_info(f"{damper}:\n" + ds.J.sel(damper=damper).to_dataframe().J.unstack("criterion").to_string())
+    io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))
+
+
+# one writer: a job that finds another run's job writing this output waits, then keeps what it finished
+if not io.write_once(snakemake.output[0], make, config, section="benchmark"):
+    workflow.log_info(f"{snakemake.output[0]}: finished by the process that held its lock; kept, not recomputed")

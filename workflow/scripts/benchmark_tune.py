@@ -14,9 +14,18 @@ workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
 options = dataclasses.replace(options, stiffness=(float(snakemake.wildcards.stiffness),))
-inputs = {Path(path).stem: io.open_dataset(path) for path in snakemake.input.scenarios}
-mr = actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None
-tuned = benchmark.tune(inputs, parse(PlatformParams, p.platform, "platform"), options, mr=mr)
-workflow.log_info(f"tuned on {sorted(inputs)}:\n{tuned.to_dataframe().to_string()}")
 config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform": p.platform}
-io.write_netcdf(tuned, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))
+
+
+def make() -> None:
+    inputs = {Path(path).stem: io.open_dataset(path) for path in snakemake.input.scenarios}
+    mr = actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None
+    tuned = benchmark.tune(inputs, parse(PlatformParams, p.platform, "platform"), options, mr=mr)
+    workflow.log_info(f"tuned on {sorted(inputs)}:\n{tuned.to_dataframe().to_string()}")
+    command = workflow.snakemake_command(snakemake)
+    io.write_netcdf(tuned, snakemake.output[0], config, section="benchmark", command=command)
+
+
+# one writer: a job that finds another run's job writing this output waits, then keeps what it finished
+if not io.write_once(snakemake.output[0], make, config, section="benchmark"):
+    workflow.log_info(f"{snakemake.output[0]}: finished by the process that held its lock; kept, not recomputed")

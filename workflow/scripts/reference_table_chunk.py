@@ -1,6 +1,7 @@
 """Snakemake script: one chunk of the reference-table grid, joblib over its (K, C) blocks -> NetCDF."""
 
 import os
+from functools import partial
 
 from uavdamp import io, workflow
 from uavdamp.camera import CameraModel
@@ -18,14 +19,22 @@ workflow.log_info(
     f"chunk {item}: {len(grid.chunk_points(spec, n_chunks, chunk - 1))} of {spec.size} points, "
     f"plant {platform.backend}, {snakemake.threads} workers, SLURM job {os.environ.get('SLURM_JOB_ID', 'none')}"
 )
-with chunks.exclusive(snakemake.output[0]):  # one writer per chunk, even with a killed run's job still alive
+config = {"reference_table": p.grid, "camera": p.camera, "platform": p.platform}
+points = grid.chunk_points(spec, n_chunks, chunk - 1)
+
+
+def make() -> None:
     ds = chunks.run_chunk(platform, spec, n_chunks=n_chunks, chunk=chunk - 1, n_jobs=snakemake.threads, progress=True)
     workflow.log_info(
         f"chunk {item}: {ds.attrs['n_failed']} failed; build {ds.attrs['build_time_s']:.2f} s, "
         f"plant {ds.attrs['solver_time_s']:.2f} s, workers {ds.attrs['worker_time_s']:.2f} s, "
         f"wall {ds.attrs['wall_time_s']:.2f} s"
     )
-    config = {"reference_table": p.grid, "camera": p.camera, "platform": p.platform}
-    io.write_netcdf(
-        ds, snakemake.output[0], config, section="reference_table", command=workflow.snakemake_command(snakemake)
-    )
+    command = workflow.snakemake_command(snakemake)
+    io.write_netcdf(ds, snakemake.output[0], config, section="reference_table", command=command)
+
+
+# one writer per chunk: a job that finds another run's job writing it waits, then keeps what that job finished
+finished = partial(chunks.finished_chunk, points=points, config=config)
+if not io.write_guarded(snakemake.output[0], make, finished=finished):
+    workflow.log_info(f"chunk {item}: finished by the process that held its lock; kept, not recomputed")

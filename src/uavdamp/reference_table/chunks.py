@@ -5,29 +5,27 @@ Two plants (config `platform.backend`): "linear" (default; `uavdamp.platform.Lin
 one (K, C) at once from one discretisation, `uavdamp.reference_table.sine_batch`) or "exudyn" (time stepping,
 point by point). A block or point that fails gives NaN and `failed = 1`; it never stops the chunk.
 
-`exclusive(path)` holds an OS file lock (filelock, fcntl: released when the holder dies, even by SIGKILL) beside a
-chunk while a job computes and writes it, so a surviving job of a killed run and a restarted run cannot write the
-same chunk at the same time: the second one stops at once, naming the file. `load_chunk` opens a chunk and checks
+`exclusive(path)` (`uavdamp.io.exclusive`) holds an OS file lock beside a chunk while a job computes and writes it,
+so a surviving job of a killed run and a restarted run cannot write the same chunk at the same time: the second
+one waits for the first and keeps the chunk it finished (`finished_chunk`). `load_chunk` opens a chunk and checks
 what the gather relies on; any problem is a ValueError naming the file, what is wrong, and how to rebuild it.
 """
 
 from __future__ import annotations
 
-import contextlib
 import json
 import time
 from functools import partial
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
-from filelock import FileLock, Timeout
 from joblib import Parallel, delayed, parallel_config
 from threadpoolctl import threadpool_limits
 
+from uavdamp import io
 from uavdamp.contract import SolverFailed
 from uavdamp.excitation import sine_input
-from uavdamp.io import open_dataset
+from uavdamp.io import exclusive, open_dataset  # noqa: F401  (exclusive: the chunk job's lock, io's)
 from uavdamp.laws import Constant
 from uavdamp.platform import ExudynPlant, LinearPlant, PlatformParams
 from uavdamp.progress import each
@@ -44,28 +42,8 @@ from uavdamp.reference_table.grid import (
 from uavdamp.reference_table.sine_batch import sine_criteria
 
 
-@contextlib.contextmanager
-def exclusive(path):
-    """Hold the lock of output `path` (a hidden `.NAME.lock` beside it) for the block; ValueError if it is held."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    lock = FileLock(path.parent / f".{path.name}.lock")
-    try:
-        lock.acquire(timeout=0)
-    except Timeout:
-        raise ValueError(
-            f"{path}: another process is writing this chunk (lock {lock.lock_file} is held): a job of "
-            "an earlier, killed run is still running; stop it (README, 'A killed run') or let it finish, "
-            "then run Snakemake again"
-        ) from None
-    try:
-        yield
-    finally:
-        lock.release()
-
-
 def rebuild_command(path) -> str:
-    return f"rm {path} && snakemake -j2 all (with the same --configfile options)"
+    return io.rebuild_command(path)
 
 
 def load_chunk(path, *, points: np.ndarray, config: dict) -> xr.Dataset:
@@ -77,8 +55,17 @@ def load_chunk(path, *, points: np.ndarray, config: dict) -> xr.Dataset:
 
     try:
         ds = open_dataset(path)
-    except (OSError, ValueError, RuntimeError) as error:  # truncated or not NetCDF: netCDF4/HDF5 errors
+    except io.CorruptOutput as error:  # truncated, not NetCDF, a failed checksum, unreadable metadata
+        raise bad(f"cannot be read ({error.reason})") from None
+    except OSError as error:
         raise bad(f"cannot be read ({type(error).__name__}: {error})") from None
+    try:
+        return _checked(ds, points, config, bad)
+    except (AttributeError, KeyError, TypeError, IndexError, json.JSONDecodeError) as error:  # damaged metadata
+        raise bad(f"has damaged metadata ({type(error).__name__}: {error})") from None
+
+
+def _checked(ds: xr.Dataset, points: np.ndarray, config: dict, bad) -> xr.Dataset:
     if "point" not in ds.dims or "failed" not in ds or not any(v.startswith("criterion") for v in ds.data_vars):
         raise bad(f"has no point dimension, failed flag or criterion (variables {sorted(ds.data_vars)})")
     if not np.array_equal(ds.point.values, np.sort(np.asarray(points))):
@@ -93,7 +80,20 @@ def load_chunk(path, *, points: np.ndarray, config: dict) -> xr.Dataset:
         values = ds[name].values
         if not np.all(np.isfinite(values[..., ok]) & (values[..., ok] > 0)):
             raise bad(f"{name} is not finite and positive at every point not flagged as failed")
+    for key in ("window",):
+        if key not in ds.coords:
+            raise bad(f"has no {key} coordinate")
+    json.loads(ds.attrs.get("errors", "[]"))  # the gather merges them
     return ds
+
+
+def finished_chunk(path, *, points: np.ndarray, config: dict) -> bool:
+    """True if `path` holds a valid finished chunk of these points and config (`load_chunk` passes)."""
+    try:
+        load_chunk(path, points=points, config=config)
+    except (ValueError, FileNotFoundError):
+        return False
+    return True
 
 
 _PLANTS: dict[PlatformParams, dict] = {}  # one built model per worker process and platform
