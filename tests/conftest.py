@@ -143,14 +143,19 @@ def quick_run_config() -> dict:
     return deep_update(load_config("quick.yaml"), plugin_override())
 
 
+def with_plugin(workdir: Path) -> Path:
+    """The run directory with the quick run's plug-in file and config/plugin.yaml (`QUICK_RUN_ARGS` names it)."""
+    (workdir / PLUGIN_FILE).parent.mkdir(exist_ok=True)
+    shutil.copy(ROOT / "examples" / "my_laws.py", workdir / PLUGIN_FILE)
+    (workdir / "config" / "plugin.yaml").write_text(yaml.safe_dump(plugin_override()))
+    return workdir
+
+
 @pytest.fixture(scope="session")
 def quick_run(tmp_path_factory) -> Path:
     """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per session,
     with the plug-in law of `plugin_override`."""
-    workdir = copy_workflow(tmp_path_factory.mktemp("quick"))
-    (workdir / PLUGIN_FILE).parent.mkdir()
-    shutil.copy(ROOT / "examples" / "my_laws.py", workdir / PLUGIN_FILE)
-    (workdir / "config" / "plugin.yaml").write_text(yaml.safe_dump(plugin_override()))
+    workdir = with_plugin(copy_workflow(tmp_path_factory.mktemp("quick")))
     result = snakemake(workdir, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
     return workdir

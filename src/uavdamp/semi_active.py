@@ -21,6 +21,7 @@ import numpy as np
 from scipy.linalg import expm, solve_continuous_are, solve_discrete_are
 
 from uavdamp.contract import DamperBounds, Observation, clip
+from uavdamp.platform.force_coupling import damper_input
 from uavdamp.platform.statespace import discretise
 
 _TINY_RATE = 1e-12  # m2 s-2: |v_rel|^2 below this counts as no stroke motion (the projection is undefined)
@@ -111,24 +112,6 @@ class Lagged:
         self._c = self._cmd + (self._c - self._cmd) * self.decay
         self._k += 1
         return out
-
-
-def damper_input(model, stiffness: float) -> tuple[np.ndarray, np.ndarray]:
-    """(B_f (ns, 2), S_rel (2, ns)): the damper force F (N, on the base, (y, z)) as an input of the state space
-    at C = 0, z' = A(K, 0) z + B w + B_f F, and the stroke rate v_rel = S_rel z + (the rate input's share).
-
-    A(K, C) = A(K, 0) + C dA exactly (C enters linearly), and dA = -B_f S_rel; B_f is found by least squares and
-    checked (ValueError if the plant's damping does not act through the stroke rate)."""
-    from uavdamp.platform.linear_plant import OUTPUTS
-
-    a0, a1 = model.state_space(stiffness, 0.0), model.state_space(stiffness, 1.0)
-    rows = [OUTPUTS.index("stroke_rate_y"), OUTPUTS.index("stroke_rate_z")]
-    s_rel = a0.c[rows]
-    d_a = a1.a - a0.a
-    b_f = -np.linalg.lstsq(s_rel.T, d_a.T, rcond=None)[0].T
-    if not np.allclose(b_f @ s_rel, -d_a, atol=1e-9 * max(1.0, np.abs(d_a).max())):
-        raise ValueError("the isolator damping does not act through the stroke rate alone")
-    return b_f, s_rel
 
 
 class ClippedOptimal:

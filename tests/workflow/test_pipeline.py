@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import ROOT, copy_workflow, snakemake
+from conftest import QUICK_RUN_ARGS, ROOT, copy_workflow, snakemake
 
 from uavdamp import io
 
@@ -117,13 +117,10 @@ def test_every_netcdf_passes_cf_checker(quick_run, tmp_path):
 
 def test_config_edit_reruns_only_affected_rules(quick_run, tmp_path):
     """Editing the spectrum options reruns the spectrum rule, not the 2 simulations."""
-    config = yaml.safe_load((quick_run / "config" / "quick.yaml").read_text())
-    config["helicopter"]["spectrum"] = {"min_omega_rad_s": 25.0}
+    config = {"helicopter": {"spectrum": {"min_omega_rad_s": 25.0}}}  # merged over the quick run's config files
     edited = quick_run / "config" / "edited.yaml"
     edited.write_text(yaml.safe_dump(config))
-    result = snakemake(
-        quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", "config/edited.yaml", timeout=300
-    )
+    result = snakemake(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, "config/edited.yaml", timeout=300)
     assert result.returncode == 0, result.stderr
     plan = result.stdout + result.stderr
     assert "helicopter_vibration" in plan

@@ -12,7 +12,7 @@ import copy
 import numpy as np
 import pytest
 import yaml
-from conftest import copy_workflow, load_config, snakemake
+from conftest import QUICK_RUN_ARGS, copy_workflow, quick_run_config, snakemake, with_plugin
 from conftest import planned_rules as dry_run_rules
 
 from uavdamp import io
@@ -104,7 +104,8 @@ SUMMARY_INPUTS = {
 
 
 def planned_rules(workdir, config: dict) -> set[str]:
-    """The rules a dry run of `all` would run with `config` as the one config file (the job-count table)."""
+    """The rules a dry run of `all` would run with `config` as the one config file (the job-count table); the
+    quick run's merged config (`quick_run_config`) plans nothing."""
     edited = workdir / "config" / "edited.yaml"
     edited.write_text(yaml.safe_dump(config, sort_keys=False))
     result = snakemake(workdir, "-n", "-j1", "all", "--configfile", str(edited.relative_to(workdir)), timeout=300)
@@ -115,7 +116,7 @@ def planned_rules(workdir, config: dict) -> set[str]:
 @pytest.mark.parametrize("name", sorted(EDITS))
 def test_an_edit_of_every_section_reruns_exactly_its_stages(quick_run, name):
     path, change, expected = EDITS[name]
-    config = load_config("quick.yaml")
+    config = quick_run_config()
     node = config
     for key in path[:-1]:
         node = node[key]
@@ -131,16 +132,16 @@ def _reversed(value):
 
 
 def test_reordered_keys_rerun_nothing(quick_run):
-    assert planned_rules(quick_run, _reversed(load_config("quick.yaml"))) == set()
+    assert planned_rules(quick_run, _reversed(quick_run_config())) == set()
 
 
 def test_the_same_config_reruns_nothing(quick_run):
-    assert planned_rules(quick_run, load_config("quick.yaml")) == set()
+    assert planned_rules(quick_run, quick_run_config()) == set()
 
 
 def test_the_anfis_threads_rerun_nothing(quick_run):
     """anfis.threads is the job's threads, not an option: the results do not depend on it."""
-    config = load_config("quick.yaml")
+    config = quick_run_config()
     config["anfis"]["threads"] = 1
     assert planned_rules(quick_run, config) == set()
 
@@ -180,7 +181,7 @@ def assert_same_netcdf_files(first, second) -> int:
 
 def test_two_quick_runs_give_identical_netcdf_files(quick_run, tmp_path):
     """A second full quick run in another folder: every NetCDF holds the same names, values and attributes."""
-    second = copy_workflow(tmp_path / "second")
-    result = snakemake(second, "-j2", "all", "benchmark", "--configfile", "config/quick.yaml")
+    second = with_plugin(copy_workflow(tmp_path / "second"))
+    result = snakemake(second, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
     assert result.returncode == 0, result.stderr[-3000:]
     assert assert_same_netcdf_files(quick_run, second) > 10

@@ -73,6 +73,22 @@ class Viscous:
         self.c = state
 
 
+def damper_input(model, stiffness: float) -> tuple[np.ndarray, np.ndarray]:
+    """(B_f (ns, 2), S_rel (2, ns)): the damper force F (N, on the base, (y, z)) as an input of the state space
+    at C = 0, z' = A(K, 0) z + B w + B_f F, and the stroke rate v_rel = S_rel z + (the rate input's share).
+
+    A(K, C) = A(K, 0) + C dA exactly (C enters linearly), and dA = -B_f S_rel; B_f is found by least squares and
+    checked (ValueError if the plant's damping does not act through the stroke rate)."""
+    a0, a1 = model.state_space(stiffness, 0.0), model.state_space(stiffness, 1.0)
+    rows = [OUTPUTS.index("stroke_rate_y"), OUTPUTS.index("stroke_rate_z")]
+    s_rel = a0.c[rows]
+    d_a = a1.a - a0.a
+    b_f = -np.linalg.lstsq(s_rel.T, d_a.T, rcond=None)[0].T
+    if not np.allclose(b_f @ s_rel, -d_a, atol=1e-9 * max(1.0, np.abs(d_a).max())):
+        raise ValueError("the isolator damping does not act through the stroke rate alone")
+    return b_f, s_rel
+
+
 def force_map(plant, b_f: np.ndarray, h: float) -> np.ndarray:
     """gamma_f (ns, 2): the state change over a step h (s) of a unit force held on it (exact zero-order hold)."""
     ns = plant.n_states
@@ -85,8 +101,6 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     """One run of the isolated linear plant (`LinearPlant`) with `damper` between base and mount, the law's clipped
     demand commanding it; the response as `LinearPlant.run` plus `damper_force` (axis, time), N: the force on the
     stroke, each step's mean (the last point repeats the last step's)."""
-    from uavdamp.semi_active import damper_input
-
     if plant.mount != "isolated":
         raise ValueError("a force damper needs the isolated mount")
     data = plant.prepare(time, mount)
