@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 
 import pytest
-from conftest import planned_rules, snakemake
+from conftest import QUICK_RUN_ARGS, planned_rules, snakemake
 
 # one output of each kind per producing rule (rule name, path under the quick run's folder)
 OUTPUTS = [
@@ -24,6 +24,8 @@ OUTPUTS = [
     ("anfis", "reports-quick/figures/anfis_selection.png"),
     ("excitation", "reports-quick/excitation/cases.nc"),
     ("study", "reports-quick/figures/study_fig12_tracked_frequency.png"),
+    # one named figure per case (issue 24: a directory() output was not rebuilt when one of its files was deleted)
+    ("study", "reports-quick/figures/study_strategies/case1.png"),
 ]
 
 
@@ -34,7 +36,7 @@ def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
     aside = target.with_name(target.name + ".aside")
     os.replace(target, aside)  # keeps the mtime, so putting it back restores the finished run
     try:
-        result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+        result = snakemake(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, timeout=300)
     finally:
         os.replace(aside, target)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -42,6 +44,6 @@ def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
 
 
 def test_nothing_planned_after_a_complete_run(quick_run):
-    result = snakemake(quick_run, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    result = snakemake(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, timeout=300)
     assert result.returncode == 0, result.stderr[-3000:]
     assert "Nothing to be done" in result.stdout + result.stderr, result.stdout[-3000:]

@@ -2,7 +2,8 @@
 
 workflow/rules/common.smk promises that a rule's params hold only what the rule uses, with sorted keys, so an
 edit reruns exactly the stages it affects (and those downstream of them) and reordering keys reruns nothing.
-Each case edits config/quick.yaml's merged config and asks Snakemake for a dry run on the finished quick run.
+Each case edits the quick run's merged config (quick.yaml and its plug-in override) and asks Snakemake for a
+dry run on the finished quick run.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import copy
 import numpy as np
 import pytest
 import yaml
-from conftest import copy_workflow, load_config, snakemake
+from conftest import copy_workflow, quick_run_config, snakemake
 from conftest import planned_rules as dry_run_rules
 
 from uavdamp import io
@@ -83,6 +84,8 @@ EDITS = {
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
     "study.tracking.window_s": (("study", "tracking", "window_s"), lambda v: v * 0.8, {"excitation", "study"}),
     "study.figures.case_1": (("study", "figures", "case_1"), lambda v: "case2", {"study"}),
+    # the sharp-frame threshold is the study's image metric, not the grid's blur (issue 24: it reran the grid)
+    "camera.sharp_threshold_px": (("camera", "sharp_threshold_px"), lambda v: v * 2, {"study"}),
     # the grid's blur criterion uses the camera: its chunks, the table, the ANFIS and the study rerun
     "camera.exposure_s": (
         ("camera", "exposure_s"),
@@ -115,7 +118,7 @@ def planned_rules(workdir, config: dict) -> set[str]:
 @pytest.mark.parametrize("name", sorted(EDITS))
 def test_an_edit_of_every_section_reruns_exactly_its_stages(quick_run, name):
     path, change, expected = EDITS[name]
-    config = load_config("quick.yaml")
+    config = quick_run_config()
     node = config
     for key in path[:-1]:
         node = node[key]
@@ -131,16 +134,16 @@ def _reversed(value):
 
 
 def test_reordered_keys_rerun_nothing(quick_run):
-    assert planned_rules(quick_run, _reversed(load_config("quick.yaml"))) == set()
+    assert planned_rules(quick_run, _reversed(quick_run_config())) == set()
 
 
 def test_the_same_config_reruns_nothing(quick_run):
-    assert planned_rules(quick_run, load_config("quick.yaml")) == set()
+    assert planned_rules(quick_run, quick_run_config()) == set()
 
 
 def test_the_anfis_threads_rerun_nothing(quick_run):
     """anfis.threads is the job's threads, not an option: the results do not depend on it."""
-    config = load_config("quick.yaml")
+    config = quick_run_config()
     config["anfis"]["threads"] = 1
     assert planned_rules(quick_run, config) == set()
 
