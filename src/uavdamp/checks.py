@@ -47,6 +47,7 @@ def check_config(config: Config) -> dict:
     """Raise ConfigError naming the first key that breaks a rule across sections (see the module docstring) or a
     run estimated above the budget; return the estimate (`uavdamp.budget`)."""
     check_names(config)
+    extrapolation(config)
     _check_platform(config.platform)
     _check_frequencies(config)
     _check_study(config)
@@ -147,3 +148,37 @@ def _check_study(config: Config) -> None:
         "study.passive_damping_n_s_m",
         f"({study.passive_damping}) must lie within the damper bounds {list(bounds)} N s m-1",
     )
+
+
+def extrapolation(config: Config) -> dict[str, list[str]]:
+    """What lies outside the reference table the ANFIS is trained on, per section ("study", "benchmark"): a K of
+    ``SECTION.stiffness_n_m`` outside reference_table.stiffness_n_m's range, the tracker band study.tracking
+    [min_freq_hz, max_freq_hz] outside the range both reference_table.freq_y_hz and .freq_z_hz cover (the ANFIS
+    clamps its inputs to its training range without a word). ConfigError naming the first unless
+    ``SECTION.allow_extrapolation`` is true; returns the warnings the run records (empty lists when inside)."""
+    grid = config.reference_table
+    k = grid.stiffness.array()
+    fy, fz = grid.freq_y.array(), grid.freq_z.array()
+    low, high = max(fy.min(), fz.min()), min(fy.max(), fz.max())
+    track = config.study.tracking
+    band = []
+    if not (low <= track.min_freq_hz and track.max_freq_hz <= high):
+        band.append(
+            f"study.tracking.min_freq_hz/max_freq_hz: the tracker band [{track.min_freq_hz:g}, {track.max_freq_hz:g}] "
+            f"Hz lies outside [{low:g}, {high:g}] Hz, the frequencies the ANFIS is trained on "
+            "(reference_table.freq_y_hz and freq_z_hz)"
+        )
+    found = {}
+    for section in ("study", "benchmark"):
+        part = getattr(config, section)
+        outside = [s for s in part.stiffness if not k.min() <= s <= k.max()]
+        found[section] = [
+            f"{section}.stiffness_n_m: {outside} N m-1 lies outside [{k.min():g}, {k.max():g}] N m-1, the stiffnesses "
+            "the ANFIS is trained on (reference_table.stiffness_n_m; a value in kN m-1?)"
+        ] * bool(outside) + band
+        if found[section] and not part.allow_extrapolation:
+            raise ConfigError(
+                f"{found[section][0]}; set {section}.allow_extrapolation: true to run it anyway (the run records a "
+                "warning)"
+            )
+    return found

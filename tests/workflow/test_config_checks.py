@@ -20,6 +20,56 @@ BAD = {
         {"study": {"stiffness_n_m": [10.0, 10.0]}},
         "study.stiffness_n_m: values must be unique",
     ),
+    # names that become paths (issue 24): a case named with / or an absolute path writes outside the output folder
+    "case-named-with-slash": (
+        {
+            "study": {
+                "cases": {
+                    "a/b": {
+                        "run": "imbalanced",
+                        "mount": "cg",
+                        "motion": "full",
+                        "amplitude_m": 1.0e-3,
+                        "amplitude_reading": "dominant",
+                        "amplitude_scaling": "per_axis",
+                    }
+                }
+            }
+        },
+        "study.cases: 'a/b' does not match '^[A-Za-z0-9_][A-Za-z0-9_.-]*$'",
+    ),
+    "case-named-absolute": (
+        {
+            "study": {
+                "cases": {
+                    "/tmp/x": {
+                        "run": "imbalanced",
+                        "mount": "cg",
+                        "motion": "full",
+                        "amplitude_m": 1.0e-3,
+                        "amplitude_reading": "dominant",
+                        "amplitude_scaling": "per_axis",
+                    }
+                }
+            }
+        },
+        "study.cases: '/tmp/x' does not match",
+    ),
+    # out of the ANFIS's training range (issue 24): a K in kN m-1, the tracker band beyond the table's frequencies
+    "study-stiffness-in-kn-per-m": (
+        {"study": {"stiffness_n_m": [0.01], "allow_extrapolation": False}},
+        "study.stiffness_n_m: [0.01] N m-1 lies outside [10, 1000] N m-1, the stiffnesses the ANFIS is trained on "
+        "(reference_table.stiffness_n_m; a value in kN m-1?); set study.allow_extrapolation: true",
+    ),
+    "benchmark-stiffness-in-kn-per-m": (
+        {"benchmark": {"stiffness_n_m": [0.01], "allow_extrapolation": False}},
+        "benchmark.stiffness_n_m: [0.01] N m-1 lies outside [10, 1000] N m-1",
+    ),
+    "tracker-band-beyond-the-table": (
+        {"study": {"allow_extrapolation": False}},
+        "study.tracking.min_freq_hz/max_freq_hz: the tracker band [3, 12] Hz lies outside [4, 10] Hz, the "
+        "frequencies the ANFIS is trained on (reference_table.freq_y_hz and freq_z_hz); set study.allow_extrapolation",
+    ),
     "tracking-band-reversed": (
         {"study": {"tracking": {"min_freq_hz": 12.0, "max_freq_hz": 3.0}}},
         "study.tracking.max_freq_hz: the band [12.0, 3.0] Hz is empty",
@@ -61,3 +111,4 @@ def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):
     result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
     assert result.returncode == 0, result.stderr[-2000:]
     assert "uavdamp plan: 72 grid points, 162.963 simulated s of helicopter, 180 study runs: about" in result.stderr
+

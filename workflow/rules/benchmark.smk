@@ -22,9 +22,7 @@ BENCHMARK_TUNED = expand(
 )
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
 # the MR damper, built once (uavdamp.actuation.MRSpec): an input of the jobs that run it
-BENCHMARK_MR = (
-    [f"{OUT}/benchmark/mr_damper.nc"] if "mr" in BENCHMARK["dampers"] else []
-)
+BENCHMARK_MR = [f"{OUT}/benchmark/mr_damper.nc"] if "mr" in BENCHMARK["dampers"] else []
 BENCHMARK_CHECKED = list(BENCHMARK["step_check"]["scenarios"])
 
 
@@ -151,5 +149,6 @@ rule benchmark_gather:
     params:
         split=BENCHMARK_SPLIT,
         runs=BENCHMARK_RUNS,
+        extrapolation=EXTRAPOLATION["benchmark"],
     script:
         "../scripts/benchmark_gather.py"

@@ -74,5 +74,6 @@ rule study:
         platform=PLATFORM_MODEL,
         stroke=canonical(config["platform"]["stroke"]),
         figures=STUDY_FIGURES,
+        extrapolation=EXTRAPOLATION["study"],
     script:
         "../scripts/study.py"

@@ -20,6 +20,9 @@ budget = parse(StrokeBudget, p.stroke, "platform.stroke")
 cases = io.open_dataset(snakemake.input.cases)
 model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
 ds = study.run_study(cases, platform, model, options, progress=True, budget=budget)
+if p.extrapolation:  # allowed by study.allow_extrapolation (uavdamp.checks.extrapolation)
+    ds.attrs["extrapolation_warning"] = "; ".join(p.extrapolation)
+    workflow.log_info(f"warning: {ds.attrs['extrapolation_warning']}")
 scalars = [
     v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}
 ]
