@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from uavdamp import budget, plugins, strategies
 from uavdamp.config import Config, load
 from uavdamp.contract import is_multiple
@@ -50,6 +52,9 @@ def check_config(config: Config) -> dict:
     extrapolation(config)
     _check_platform(config.platform)
     _check_frequencies(config)
+    _check_benchmark_frequencies(config)
+    _check_run_length(config)
+    _check_folds(config)
     _check_study(config)
     _check_mounts(config)
     _check_flights(config)
@@ -101,6 +106,61 @@ def _check_frequencies(config: Config) -> None:
         track.max_freq_hz < 0.5 / output_step,
         "study.tracking.max_freq_hz",
         f"must stay below the Nyquist frequency of helicopter.solver.output_step_s ({0.5 / output_step:g} Hz)",
+    )
+
+
+def _frequency_rule(config: Config) -> tuple[float, str]:
+    """(Hz, text): the limit every input frequency stays below, a fraction of the platform solver's Nyquist."""
+    platform = config.platform
+    h, fraction = platform.time_step, platform.solver.max_frequency_fraction
+    limit = fraction * 0.5 / h
+    return limit, (
+        f"must stay below platform.solver.max_frequency_fraction {fraction} x the Nyquist frequency 1/(2 x "
+        f"platform.solver.time_step_s) of {h} s, i.e. {limit:g} Hz"
+    )
+
+
+def _check_benchmark_frequencies(config: Config) -> None:
+    """The benchmark's input frequencies (synthetic sweeps, tones, random bands, the helicopter band and high-pass)
+    below the platform solver's limit (`_frequency_rule`), named by key before scipy sees them."""
+    limit, rule = _frequency_rule(config)
+    bench = config.benchmark
+    named = {"benchmark.band_hz": bench.band_hz, "benchmark.highpass_hz": (bench.highpass_hz,)}
+    for k, synthetic in enumerate(bench.synthetic):
+        for key in ("freq_hz", "freq_y_hz", "freq_z_hz", "band_hz"):
+            named[f"benchmark.synthetic[{k}] ({synthetic.name}).{key}"] = getattr(synthetic, key) or ()
+    for key, values in named.items():
+        top = max(values, default=0.0)
+        require(top < limit, key, f"{top:g} Hz {rule}")
+
+
+def _check_run_length(config: Config) -> None:
+    """A case taking a helicopter run's motion needs study.duration_s of it (helicopter.solver.duration_s)."""
+    recorded = config.helicopter.solver.duration
+    for name, case in config.study.cases.items():
+        require(
+            not case.run or config.study.duration_s <= recorded + 1e-9,
+            "study.duration_s",
+            f"({config.study.duration_s} s) is longer than the helicopter run {case.run!r} of study.cases.{name} "
+            f"(helicopter.solver.duration_s = {recorded} s)",
+        )
+
+
+def _check_folds(config: Config) -> None:
+    """anfis.selection.folds at most the training rows the reference table can give (every (f_y, f_z, K) point a
+    row, anfis.train_fraction of them for training: `uavdamp.anfis.training.split`; failed points only remove)."""
+    from uavdamp.anfis.training import split
+
+    grid, anfis = config.reference_table, config.anfis
+    shape = [axis.array().size for axis in (grid.freq_y, grid.freq_z, grid.stiffness)]
+    rows = int(np.prod(shape))
+    train = int(split(rows, anfis.train_fraction, anfis.seed).sum()) if rows > 1 else 0
+    require(
+        anfis.selection.folds <= train,
+        "anfis.selection.folds",
+        f"{anfis.selection.folds} folds need as many training rows; the reference table gives at most "
+        f"{' x '.join(map(str, shape))} = {rows} rows (reference_table.freq_y_hz, freq_z_hz, stiffness_n_m), "
+        f"{train} of them training rows (anfis.train_fraction {anfis.train_fraction})",
     )
 
 
