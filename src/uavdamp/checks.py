@@ -20,13 +20,14 @@ from uavdamp.workflow import check_schema
 SCHEMA = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
 
 
-def validate(mapping: dict, schema_path=SCHEMA) -> tuple[Config, dict]:
+def validate(mapping: dict, schema_path=SCHEMA, benchmark: bool = False) -> tuple[Config, dict]:
     """What the Snakefile does before any job: every key typed (`uavdamp.config.load`), every value against the
     schema's ranges (`uavdamp.workflow.check_schema`), values against each other and the budget (`check_config`).
-    Returns the typed config and the cost estimate; ConfigError names the first bad key."""
+    Returns the typed config and the cost estimate (with `benchmark`, the benchmark target's runs counted);
+    ConfigError names the first bad key."""
     typed = load(mapping)
     check_schema(mapping, schema_path)
-    return typed, check_config(typed)
+    return typed, check_config(typed, benchmark)
 
 
 def check_names(config: Config) -> None:
@@ -45,7 +46,7 @@ def check_names(config: Config) -> None:
         require(not unknown, key, f"unknown strategy {unknown} (known: {known}; a plug-in adds its own: plugins)")
 
 
-def check_config(config: Config) -> dict:
+def check_config(config: Config, benchmark: bool = False) -> dict:
     """Raise ConfigError naming the first key that breaks a rule across sections (see the module docstring) or a
     run estimated above the budget; return the estimate (`uavdamp.budget`)."""
     check_names(config)
@@ -66,7 +67,7 @@ def check_config(config: Config) -> dict:
         f"[{damping.min()}, {damping.max()}] N s m-1 lies outside the damper bounds platform.isolator."
         f"damping_min_n_s_m/damping_max_n_s_m {list(bounds)}",
     )
-    return budget.check(config)
+    return budget.check(config, benchmark)
 
 
 def _check_platform(platform: PlatformParams) -> None:

@@ -187,6 +187,17 @@ def test_a_yaml_error_in_the_base_config_names_the_file_and_the_line(tmp_path):
     assert f"config/config.yaml, line {number + 2}, column 3: expected ',' or ']'" in output, output[-2000:]
 
 
+def test_the_benchmark_counts_in_the_budget_when_it_is_requested(workdir):
+    """1.2 CPU min: the quick study fits, the study and the benchmark do not (tests/test_budget.py counts them)."""
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"budget": {"max_cpu_hours": 0.02}}))
+    args = ("--configfile", "config/quick.yaml", "config/bad.yaml")
+    study = snakemake(workdir, "-n", "-j1", "all", *args, timeout=300)
+    assert study.returncode == 0, study.stderr[-2000:]
+    assert "benchmark runs" not in study.stderr
+    output = _refused(workdir, "all", "benchmark", *args)
+    assert "budget.max_cpu_hours: the run is estimated at" in output and "benchmark 181 runs" in output, output
+
+
 def test_a_key_typo_is_refused_in_a_few_lines_with_the_nearest_key(workdir):
     """Not Snakemake's schema dump (issue 24: ~300 lines): the key, the nearest valid key and the rule."""
     (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"study": {"duraton_s": 2.0}}))
