@@ -206,7 +206,8 @@ def study_options_of(section: dict):
     from uavdamp.study import StudyOptions
 
     options = parse(StudyOptions, view(section, StudyOptions), "study")
-    extra = sorted(set(section) - set(keys(StudyOptions)) - {"camera", "cases", "duration_s", "highpass_hz", "figures"})
+    section_only = {"camera", "cases", "duration_s", "highpass_hz", "figures", "allow_extrapolation"}
+    extra = sorted(set(section) - set(keys(StudyOptions)) - section_only)
     assert not extra, f"unknown study keys {extra}"
     return replace(options, camera=camera_of(section["camera"])) if "camera" in section else options
 

@@ -17,7 +17,7 @@ import yaml
 from conftest import ROOT, deep_update, load_config
 
 from uavdamp import checks, config_docs
-from uavdamp.config import Config
+from uavdamp.config import Config, load
 from uavdamp.settings import RENAMED, ConfigError, key_of
 
 # (override merged over quick.yaml, text the error must contain)
@@ -314,3 +314,23 @@ def test_every_renamed_key_names_a_key_that_exists():
     for old, new in RENAMED.items():
         key = f"{old.rsplit('.', 1)[0]}.{new}".replace("*", "NAME")
         assert key in keys or f"`{key}`" in documented, (old, new)
+
+
+def test_extrapolation_allowed_is_returned_as_the_runs_warning_and_refused_otherwise():
+    """A K or a tracker band beyond the reference table (issue 24): refused unless SECTION.allow_extrapolation,
+    then the warning the run records; the shipped config lies inside, so nothing to record."""
+    assert checks.extrapolation(load(load_config())) == {"study": [], "benchmark": []}
+    quick = load_config("quick.yaml")
+    band = (
+        "study.tracking.min_freq_hz/max_freq_hz: the tracker band [3, 12] Hz lies outside [4, 10] Hz, the "
+        "frequencies the ANFIS is trained on (reference_table.freq_y_hz and freq_z_hz)"
+    )
+    assert checks.extrapolation(load(quick)) == {"study": [band], "benchmark": [band]}
+    inside = deep_update(quick, {"study": {"tracking": {"min_freq_hz": 4.0, "max_freq_hz": 10.0}}})
+    kilo = deep_update(inside, {"benchmark": {"stiffness_n_m": [10.0, 2000.0]}})
+    found = checks.extrapolation(load(kilo))
+    assert found["study"] == [] and len(found["benchmark"]) == 1
+    assert found["benchmark"][0].startswith("benchmark.stiffness_n_m: [2000.0] N m-1 lies outside [10, 1000] N m-1")
+    refused = deep_update(kilo, {"benchmark": {"allow_extrapolation": False}})
+    with pytest.raises(ConfigError, match=r"^benchmark.stiffness_n_m: \[2000.0\] .* benchmark.allow_extrapolation"):
+        checks.extrapolation(load(refused))

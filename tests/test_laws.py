@@ -361,3 +361,12 @@ def test_integer_displacements_are_read_as_floats():
     ints = np.zeros((2, time.size), dtype=int)
     frames = iq.frame_metrics(time, ints, np.zeros_like(time), np.zeros_like(time), CAM)
     assert np.all(frames.blur_px == 0.0)
+
+
+@pytest.mark.parametrize("name", ["a/b", "/tmp/law", "../up", "with space", ""])
+def test_a_plugin_name_that_is_not_a_safe_name_is_refused(monkeypatch, name):
+    """A registered name becomes part of output names (issue 24): only letters, digits and _ (the schema's)."""
+    monkeypatch.setattr(strategies, "REGISTRY", dict(strategies.REGISTRY))
+    with pytest.raises(ValueError, match=r"^strategy name .* must match \[A-Za-z0-9_\]\+"):
+        strategies.register(name)(lambda context: None)
+    assert name not in strategies.REGISTRY

@@ -42,8 +42,37 @@ def flight_seconds(heli, duration: float) -> float:
     return FLIGHT_COST * (trim.settle + phases * (trim.step_settle + revolutions) + heli.flight.release + duration)
 
 
-def estimate(config) -> dict[str, float]:
-    """Counts and estimated CPU seconds of the heavy stages of a typed `uavdamp.config.Config`."""
+MR_COST = 5.0  # 1, a run with the Spencer MR damper over an ideal one's (config/config.yaml benchmark.dampers: ~5x)
+
+
+def benchmark_runs(config) -> dict[str, int]:
+    """Platform runs of the benchmark target: every scenario x controller x damper x stiffness (those with the MR
+    damper apart: MR_COST each), and the tuning's at most (rigid, then per tuning criterion every tuned parameter of
+    a configured controller: n_candidates + max_refine values, hybrid's per hybrid_alpha) per tuning scenario and K."""
+    from uavdamp.scenarios import scenario_specs, split
+    from uavdamp.tuning import TUNED
+
+    bench = config.benchmark
+    names = sorted(scenario_specs(bench))
+    tuning = sum(role == "tuning" for role in split(names, bench.split.tuning_fraction, bench.split.seed).values())
+    per_damper = len(names) * len(bench.controllers) * len(bench.stiffness)
+    t = bench.tuning
+    searches = sum(
+        len(t.hybrid_alpha) if key == "hybrid_gain" else 1
+        for key, (controller, _, _) in TUNED.items()
+        if controller in bench.controllers
+    )
+    per_k = 1 + len(t.criteria) * searches * (t.n_candidates + t.max_refine)
+    return {
+        "runs": per_damper * sum(d != "mr" for d in bench.dampers),
+        "mr_runs": per_damper * ("mr" in bench.dampers),
+        "tuning_runs": tuning * len(bench.stiffness) * per_k,
+    }
+
+
+def estimate(config, benchmark: bool = False) -> dict[str, float]:
+    """Counts and estimated CPU seconds of the heavy stages of a typed `uavdamp.config.Config` (with `benchmark`,
+    of the benchmark target's runs too: `benchmark_runs`)."""
     b, heli, study, grid = config.budget, config.helicopter, config.study, config.reference_table
     flight = heli.aerodynamics.enabled
     runs_s = 3 * heli.solver.duration + (2 * flight_seconds(heli, heli.solver.duration) if flight else 0.0)
@@ -62,7 +91,11 @@ def estimate(config) -> dict[str, float]:
         "helicopter": heli_s * b.helicopter_cpu_per_simulated_s,
         "study": study_runs * study.duration_s * b.platform_cpu_per_simulated_s,
     }
+    runs = benchmark_runs(config) if benchmark else {"runs": 0, "mr_runs": 0, "tuning_runs": 0}
+    weighted = runs["runs"] + MR_COST * runs["mr_runs"] + runs["tuning_runs"]
+    cpu["benchmark"] = weighted * config.benchmark.duration_s * b.platform_cpu_per_simulated_s
     return {
+        "benchmark_runs": runs["runs"] + runs["mr_runs"] + runs["tuning_runs"],
         "grid_points": grid_points,
         "helicopter_simulated_s": heli_s,
         "study_runs": study_runs,
@@ -72,15 +105,17 @@ def estimate(config) -> dict[str, float]:
     }
 
 
-def check(config) -> dict[str, float]:
-    """The estimate; ConfigError naming budget.max_cpu_hours and the numbers when it is above the budget."""
-    e = estimate(config)
+def check(config, benchmark: bool = False) -> dict[str, float]:
+    """The estimate (`benchmark`: with the benchmark target's runs); ConfigError naming budget.max_cpu_hours and the
+    numbers when it is above the budget."""
+    e = estimate(config, benchmark)
     if e["cpu_s"] > e["max_cpu_s"]:
         raise ConfigError(
             f"budget.max_cpu_hours: the run is estimated at {e['cpu_s'] / 3600:.3g} CPU hours "
             f"(grid {e['grid_points']:,} points: {e['cpu_s_grid'] / 3600:.3g} h; helicopter "
             f"{e['helicopter_simulated_s']:g} simulated s: {e['cpu_s_helicopter'] / 3600:.3g} h; study "
-            f"{e['study_runs']} runs: {e['cpu_s_study'] / 3600:.3g} h), above the budget of "
+            f"{e['study_runs']} runs: {e['cpu_s_study'] / 3600:.3g} h; benchmark {e['benchmark_runs']} runs: "
+            f"{e['cpu_s_benchmark'] / 3600:.3g} h), above the budget of "
             f"{e['max_cpu_s'] / 3600:g} h. To run it anyway, raise budget.max_cpu_hours in a config file "
             "passed with --configfile"
         )
@@ -90,6 +125,8 @@ def check(config) -> dict[str, float]:
 def summary(e: dict[str, float]) -> str:
     return (
         f"uavdamp plan: {e['grid_points']:,} grid points, {e['helicopter_simulated_s']:g} simulated s of "
-        f"helicopter, {e['study_runs']} study runs: about {e['cpu_s'] / 60:.3g} CPU min "
+        f"helicopter, {e['study_runs']} study runs"
+        + (f", {e['benchmark_runs']} benchmark runs" if e["benchmark_runs"] else "")
+        + f": about {e['cpu_s'] / 60:.3g} CPU min "
         f"(budget {e['max_cpu_s'] / 3600:g} h)"
     )

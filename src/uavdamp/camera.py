@@ -47,11 +47,11 @@ _REQUIRED = (
 
 
 @dataclass(frozen=True)
-class CameraModel:
-    """Pinhole camera with a global or rolling shutter (config section ``camera``), SI units.
+class CameraOptics:
+    """Pinhole camera with a global or rolling shutter: what the image path and the blur need (the grid's view of
+    the config section ``camera``: not the sharp-frame threshold, so editing it does not rerun the grid), SI units.
 
-    line_time_s: rolling-shutter delay between the exposure starts of consecutive rows, s (0: global
-    shutter). sharp_threshold_px: a frame is sharp when its blur is at most this, px.
+    line_time_s: rolling-shutter delay between the exposure starts of consecutive rows, s (0: global shutter).
     """
 
     focal_length_m: float  # m
@@ -62,17 +62,14 @@ class CameraModel:
     frame_rate_hz: float  # Hz, frames per second
     scene_distance_m: float  # m, distance D of the observed scene along the optical axis
     line_time_s: float = 0.0  # s, rolling-shutter row delay; 0 = global shutter
-    sharp_threshold_px: float = 1.0  # px, blur at most this counts as a sharp frame
 
     def __post_init__(self) -> None:
         self.validate()
 
     def validate(self) -> None:
         """ValueError naming the first bad value (the typed loader has checked types and finiteness)."""
-        for name in (*_REQUIRED, "sharp_threshold_px"):
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ValueError(f"camera.{name} must be a finite number > 0, got {value!r}")
+        for name in _REQUIRED:
+            _positive(self, name)
         if not (math.isfinite(self.line_time_s) and self.line_time_s >= 0):
             raise ValueError(f"camera.line_time_s must be >= 0, got {self.line_time_s!r}")
         period = 1.0 / self.frame_rate_hz
@@ -102,6 +99,24 @@ class CameraModel:
     def attrs(self) -> dict[str, float]:
         """The parameters as flat NetCDF attributes, named camera_<key>."""
         return {f"camera_{f.name}": getattr(self, f.name) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class CameraModel(CameraOptics):
+    """The config section ``camera``: the optics (`CameraOptics`) and the sharp-frame threshold of the image
+    metrics. sharp_threshold_px: a frame is sharp when its blur is at most this, px."""
+
+    sharp_threshold_px: float = 1.0  # px, blur at most this counts as a sharp frame
+
+    def validate(self) -> None:
+        CameraOptics.validate(self)
+        _positive(self, "sharp_threshold_px")
+
+
+def _positive(camera, name: str) -> None:
+    value = getattr(camera, name)
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        raise ValueError(f"camera.{name} must be a finite number > 0, got {value!r}")
 
 
 def image_displacement_px(

@@ -37,6 +37,8 @@ class BenchmarkSection(BenchmarkOptions, ScenarioOptions):
     """The config section ``benchmark``: the scenarios (`ScenarioOptions`), the runs (`BenchmarkOptions`), the split."""
 
     split: Split = setting()
+    # K or the tracker band outside the reference table's ranges: refused unless true (`uavdamp.checks.extrapolation`)
+    allow_extrapolation: bool = setting(default=False)
 
     def validate(self) -> None:
         BenchmarkOptions.validate(self)

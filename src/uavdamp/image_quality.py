@@ -40,7 +40,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from uavdamp.camera import CameraModel, image_displacement_px
+from uavdamp.camera import CameraModel, CameraOptics, image_displacement_px
 
 NYQUIST_CYCLES_PER_PX = 0.5
 
@@ -95,7 +95,7 @@ def _span(time: np.ndarray, start_s: float | None, end_s: float | None) -> tuple
 
 
 def frame_starts(
-    time: np.ndarray, camera: CameraModel, start_s: float | None = None, end_s: float | None = None
+    time: np.ndarray, camera: CameraOptics, start_s: float | None = None, end_s: float | None = None
 ) -> np.ndarray:
     """Frame clock t_k = start + k / frame_rate, s, of the frames whose last row ends by `end_s`.
 
@@ -160,7 +160,7 @@ def frames_from_image_path(
     time: np.ndarray,
     u_px: np.ndarray,
     v_px: np.ndarray,
-    camera: CameraModel,
+    camera: CameraOptics,
     start_s: float | None = None,
     end_s: float | None = None,
 ) -> Frames:
@@ -277,7 +277,7 @@ def frame_metrics(
     camera_displacement: np.ndarray,
     camera_yaw: np.ndarray,
     camera_pitch: np.ndarray,
-    camera: CameraModel,
+    camera: CameraOptics,
     start_s: float | None = None,
     end_s: float | None = None,
 ) -> Frames:

@@ -140,7 +140,8 @@ def unknown_key(where: str, key: str, valid: list[str]) -> ConfigError:
             return ConfigError(f"{dotted}: renamed to {join(where, new)} (the key now carries its unit)")
     near = difflib.get_close_matches(str(key), valid, n=1)
     hint = f"; did you mean {join(where, near[0])}?" if near else f" (valid keys: {', '.join(valid)})"
-    return ConfigError(f"{dotted}: unknown key{hint}")
+    rule = f"{where or 'the config'} takes only its own keys (workflow/schemas/config.schema.yaml, config/README.md)"
+    return ConfigError(f"{dotted}: unknown key{hint} {rule}")
 
 
 def parse(cls: type[T], mapping, where: str) -> T:

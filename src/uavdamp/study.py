@@ -59,6 +59,8 @@ class StudySection(StudyOptions, ExcitationOptions):
     """The config section ``study``: the cases (`ExcitationOptions`), the runs (`StudyOptions`) and the figures."""
 
     figures: Figures = setting()
+    # K or the tracker band outside the reference table's ranges: refused unless true (`uavdamp.checks.extrapolation`)
+    allow_extrapolation: bool = setting(default=False)
 
     def validate(self) -> None:
         StudyOptions.validate(self)
@@ -171,17 +173,46 @@ def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period:
             update, freq = tracking.track(time, signal, update_period=update_period, options=options.tracking)
             row.append(freq)
         rows.append(row)
+    freq = np.asarray(rows)
+    edge = at_band_edge(freq, options.tracking)
+    band = f"[{options.tracking.min_freq_hz:g}, {options.tracking.max_freq_hz:g}] Hz"
+    edge_attrs = f"within {band_edge_tolerance(options.tracking):g} Hz of the band's edge {band}"
     return xr.Dataset(
         {
+            "at_band_edge": (
+                ("case", "axis", "update_time"),
+                edge.astype(np.int8),
+                {"units": "1", "long_name": f"1 where tracked_freq sat at the tracker's band edge: {edge_attrs}"},
+            ),
+            "band_edge_updates": (
+                ("case", "axis"),
+                edge.sum(axis=-1).astype(np.int64),
+                {"units": "1", "long_name": f"updates whose tracked_freq sat at the band edge ({edge_attrs})"},
+            ),
             "tracked_freq": (
                 ("case", "axis", "update_time"),
-                np.asarray(rows),
+                freq,
                 {
                     "units": "Hz",
                     "long_name": f"dominant input frequency tracked at each update ({options.tracking.method}; "
                     "NaN: too early)",
                 },
-            )
+            ),
         },
         coords={"update_time": ("update_time", update, {"units": "s", "long_name": "damping update time"})},
     )
+
+
+def band_edge_tolerance(tracker: TrackerOptions) -> float:
+    """Hz: the tracker's frequency resolution 1 / (window_s x zero_padding), the FFT bin of its band search."""
+    return 1.0 / (tracker.window * tracker.zero_padding)
+
+
+def at_band_edge(freq: np.ndarray, tracker: TrackerOptions) -> np.ndarray:
+    """True where a tracked frequency (Hz; NaN: no estimate) lies within `band_edge_tolerance` of min_freq_hz or
+    max_freq_hz: the search ended at the band's edge, so the input's line may lie beyond it (and beyond the
+    frequencies the ANFIS is trained on)."""
+    tol = band_edge_tolerance(tracker)
+    freq = np.asarray(freq, dtype=float)
+    with np.errstate(invalid="ignore"):
+        return (np.abs(freq - tracker.min_freq_hz) <= tol) | (np.abs(tracker.max_freq_hz - freq) <= tol)

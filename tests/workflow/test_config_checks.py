@@ -20,6 +20,103 @@ BAD = {
         {"study": {"stiffness_n_m": [10.0, 10.0]}},
         "study.stiffness_n_m: values must be unique",
     ),
+    # names that become paths (issue 24): a case named with / or an absolute path writes outside the output folder
+    "case-named-with-slash": (
+        {
+            "study": {
+                "cases": {
+                    "a/b": {
+                        "run": "imbalanced",
+                        "mount": "cg",
+                        "motion": "full",
+                        "amplitude_m": 1.0e-3,
+                        "amplitude_reading": "dominant",
+                        "amplitude_scaling": "per_axis",
+                    }
+                }
+            }
+        },
+        "study.cases: 'a/b' does not match '^[A-Za-z0-9_][A-Za-z0-9_.-]*$'",
+    ),
+    "case-named-absolute": (
+        {
+            "study": {
+                "cases": {
+                    "/tmp/x": {
+                        "run": "imbalanced",
+                        "mount": "cg",
+                        "motion": "full",
+                        "amplitude_m": 1.0e-3,
+                        "amplitude_reading": "dominant",
+                        "amplitude_scaling": "per_axis",
+                    }
+                }
+            }
+        },
+        "study.cases: '/tmp/x' does not match",
+    ),
+    # out of the ANFIS's training range (issue 24): a K in kN m-1, the tracker band beyond the table's frequencies
+    "study-stiffness-in-kn-per-m": (
+        {"study": {"stiffness_n_m": [0.01], "allow_extrapolation": False}},
+        "study.stiffness_n_m: [0.01] N m-1 lies outside [10, 1000] N m-1, the stiffnesses the ANFIS is trained on "
+        "(reference_table.stiffness_n_m; a value in kN m-1?); set study.allow_extrapolation: true",
+    ),
+    "benchmark-stiffness-in-kn-per-m": (
+        {"benchmark": {"stiffness_n_m": [0.01], "allow_extrapolation": False}},
+        "benchmark.stiffness_n_m: [0.01] N m-1 lies outside [10, 1000] N m-1",
+    ),
+    "tracker-band-beyond-the-table": (
+        {"study": {"allow_extrapolation": False}},
+        "study.tracking.min_freq_hz/max_freq_hz: the tracker band [3, 12] Hz lies outside [4, 10] Hz, the "
+        "frequencies the ANFIS is trained on (reference_table.freq_y_hz and freq_z_hz); set study.allow_extrapolation",
+    ),
+    # checked only inside jobs before (issue 24), after Snakemake had deleted their previous outputs
+    "helicopter-run-shorter-than-the-study": (
+        {"helicopter": {"solver": {"duration_s": 1.0}}},
+        "study.duration_s: (2.0 s) is longer than the helicopter run 'imbalanced' of study.cases.case1 "
+        "(helicopter.solver.duration_s = 1.0 s)",
+    ),
+    "anfis-folds-beyond-the-training-rows": (
+        {"anfis": {"selection": {"folds": 100}}},
+        "anfis.selection.folds: 100 folds need as many training rows; the reference table gives at most "
+        "3 x 3 x 2 = 18 rows (reference_table.freq_y_hz, freq_z_hz, stiffness_n_m), 14 of them training rows",
+    ),
+    "benchmark-sweep-above-nyquist": (
+        {"benchmark": {"synthetic": [{"name": "sweep", "kind": "sweep", "freq_hz": [4.0, 200.0]}]}},
+        "benchmark.synthetic[0] (sweep).freq_hz: 200 Hz must stay below platform.solver.max_frequency_fraction "
+        "0.25 x the Nyquist frequency 1/(2 x platform.solver.time_step_s) of 0.004 s, i.e. 31.25 Hz",
+    ),
+    "benchmark-random-band-above-nyquist": (
+        {"benchmark": {"synthetic": [{"name": "noise", "kind": "random", "band_hz": [4.0, 300.0], "seed": 1}]}},
+        "benchmark.synthetic[0] (noise).band_hz: 300 Hz must stay below",
+    ),
+    # already refused before any job on main when issue 24 was filed (rerun then): kept so that they stay so
+    "rotor-speed-zero": (
+        {"helicopter": {"main_rotor": {"omega_rad_s": 0.0}}},
+        "helicopter.main_rotor.omega_rad_s: must be > 0",
+    ),
+    "rotor-speed-nan": (
+        {"helicopter": {"main_rotor": {"omega_rad_s": float("nan")}}},
+        "helicopter.main_rotor.omega_rad_s: expected a finite number, got nan",
+    ),
+    "study-duration-nan": ({"study": {"duration_s": float("nan")}}, "study.duration_s: expected a finite number"),
+    "n-chunks-as-float": (
+        {"reference_table": {"n_chunks": 3.0}},
+        "reference_table.n_chunks: expected an integer, got 3.0",
+    ),
+    "epochs-as-float": ({"anfis": {"epochs": 50.0}}, "anfis.epochs: expected an integer, got 50.0"),
+    "strategies-as-a-string": (
+        {"study": {"strategies": "passive"}},
+        "study.strategies: expected a list, got 'passive'",
+    ),
+    "imbalanced-blade-beyond-the-rotor": (
+        {"helicopter": {"imbalance": {"blade": 4}}},
+        "helicopter.imbalance.blade: must lie in [0, 3] (helicopter.main_rotor.n_blades = 4), got 4",
+    ),
+    "camera-exposure-beyond-the-frame": (
+        {"camera": {"exposure_s": 0.1}},
+        "camera.exposure_s (0.1 s) exceeds the frame period 0.0333333 s",
+    ),
     "tracking-band-reversed": (
         {"study": {"tracking": {"min_freq_hz": 12.0, "max_freq_hz": 3.0}}},
         "study.tracking.max_freq_hz: the band [12.0, 3.0] Hz is empty",
@@ -61,3 +158,53 @@ def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):
     result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
     assert result.returncode == 0, result.stderr[-2000:]
     assert "uavdamp plan: 72 grid points, 162.963 simulated s of helicopter, 180 study runs: about" in result.stderr
+
+
+def _refused(workdir, *args: str) -> str:
+    """A dry run that must be refused before any job: its output."""
+    result = snakemake(workdir, "-n", "-j1", *args, timeout=300)
+    output = result.stdout + result.stderr
+    assert result.returncode != 0, output[-2000:]
+    assert "Building DAG" not in output and "rule " not in output, output[-2000:]
+    return output
+
+
+def test_a_duplicated_yaml_key_is_refused_naming_the_file_and_the_lines(workdir):
+    """Snakemake's YAML reader keeps the last of two equal keys without a word (issue 24)."""
+    (workdir / "config" / "bad.yaml").write_text("study:\n  duration_s: 2.0\n  duration_s: 3.0\n")
+    output = _refused(workdir, "all", "--configfile", "config/quick.yaml", "config/bad.yaml")
+    assert "config/bad.yaml, line 3, column 3: duplicate key 'duration_s' (first given on line 2)" in output, output
+
+
+def test_a_yaml_error_in_the_base_config_names_the_file_and_the_line(tmp_path):
+    work = copy_workflow(tmp_path)
+    path = work / "config" / "config.yaml"
+    lines = path.read_text().splitlines()
+    number = next(i for i, line in enumerate(lines) if line.startswith("  duration_s: 5.0"))
+    lines[number] = lines[number].replace("duration_s: 5.0", "duration_s: [5.0", 1)
+    path.write_text("\n".join(lines) + "\n")
+    output = _refused(work, "all")
+    assert f"config/config.yaml, line {number + 2}, column 3: expected ',' or ']'" in output, output[-2000:]
+
+
+def test_the_benchmark_counts_in_the_budget_when_it_is_requested(workdir):
+    """1.2 CPU min: the quick study fits, the study and the benchmark do not (tests/test_budget.py counts them)."""
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"budget": {"max_cpu_hours": 0.02}}))
+    args = ("--configfile", "config/quick.yaml", "config/bad.yaml")
+    study = snakemake(workdir, "-n", "-j1", "all", *args, timeout=300)
+    assert study.returncode == 0, study.stderr[-2000:]
+    assert "benchmark runs" not in study.stderr
+    output = _refused(workdir, "all", "benchmark", *args)
+    assert "budget.max_cpu_hours: the run is estimated at" in output and "benchmark 181 runs" in output, output
+
+
+def test_a_key_typo_is_refused_in_a_few_lines_with_the_nearest_key(workdir):
+    """Not Snakemake's schema dump (issue 24: ~300 lines): the key, the nearest valid key and the rule."""
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"study": {"duraton_s": 2.0}}))
+    output = _refused(workdir, "all", "--configfile", "config/quick.yaml", "config/bad.yaml")
+    message = (
+        "study.duraton_s: unknown key; did you mean study.duration_s? study takes only its own keys "
+        "(workflow/schemas/config.schema.yaml, config/README.md)"
+    )
+    assert message in output, output
+    assert len(output.strip().splitlines()) <= 15, output

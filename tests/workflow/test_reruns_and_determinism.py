@@ -2,7 +2,8 @@
 
 workflow/rules/common.smk promises that a rule's params hold only what the rule uses, with sorted keys, so an
 edit reruns exactly the stages it affects (and those downstream of them) and reordering keys reruns nothing.
-Each case edits config/quick.yaml's merged config and asks Snakemake for a dry run on the finished quick run.
+Each case edits the quick run's merged config (quick.yaml and its plug-in override) and asks Snakemake for a
+dry run on the finished quick run.
 """
 
 from __future__ import annotations
@@ -83,6 +84,8 @@ EDITS = {
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
     "study.tracking.window_s": (("study", "tracking", "window_s"), lambda v: v * 0.8, {"excitation", "study"}),
     "study.figures.case_1": (("study", "figures", "case_1"), lambda v: "case2", {"study"}),
+    # the sharp-frame threshold is the study's image metric, not the grid's blur (issue 24: it reran the grid)
+    "camera.sharp_threshold_px": (("camera", "sharp_threshold_px"), lambda v: v * 2, {"study"}),
     # the grid's blur criterion uses the camera: its chunks, the table, the ANFIS and the study rerun
     "camera.exposure_s": (
         ("camera", "exposure_s"),

@@ -149,5 +149,6 @@ rule benchmark_gather:
     params:
         split=BENCHMARK_SPLIT,
         runs=BENCHMARK_RUNS,
+        extrapolation=EXTRAPOLATION["benchmark"],
     script:
         "../scripts/benchmark_gather.py"

@@ -2,6 +2,7 @@
 # typed section class its job parses (uavdamp.settings.view), with sorted keys (uavdamp.workflow.canonical), so
 # an edit reruns exactly the stages it affects and reordering a YAML file reruns nothing.
 from uavdamp.anfis import AnfisOptions
+from uavdamp.camera import CameraOptics
 from uavdamp.excitation import ExcitationOptions
 from uavdamp.helicopter import FlightRun, HelicopterRun
 from uavdamp.platform import PlatformParams
@@ -29,6 +30,9 @@ RUNS = VACUUM_RUNS + FLIGHT_RUNS  # every helicopter run
 ENV = "../envs/uavdamp.yaml"
 
 CAMERA = canonical(config["camera"])
+# the grid's blur criterion sees the optics only (uavdamp.camera.CameraOptics): a sharp_threshold_px edit reruns the
+# study and the benchmark runs, not the grid
+CAMERA_OPTICS = canonical(view(config["camera"], CameraOptics))
 PLUGINS = list(
     config["plugins"]
 )  # plug-in law files: inputs of the rules that import them (uavdamp.plugins)
@@ -50,6 +54,9 @@ ANFIS = canonical(view(config["anfis"], AnfisOptions))
 STUDY_EXCITATION = canonical(view(config["study"], ExcitationOptions))
 STUDY_RUNS = canonical(view(config["study"], StudyOptions))
 STUDY_FIGURES = canonical(config["study"]["figures"])
+STUDY_CASES = list(
+    config["study"]["cases"]
+)  # names (schema pattern): one strategies figure each
 # what the study's cases take their motion from: helicopter runs and measured flights (flight_logs)
 CASE_RUNS = sorted(
     {c["run"] for c in config["study"]["cases"].values() if c.get("run")}

@@ -10,7 +10,7 @@ rule reference_table_chunk:
     threads: config["reference_table"]["threads"]
     params:
         grid=REFERENCE_GRID,
-        camera=CAMERA,
+        camera=CAMERA_OPTICS,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/reference_table_chunk.py"
@@ -43,7 +43,7 @@ rule reference_table:
     threads: config["reference_table"]["threads"]
     params:
         grid=REFERENCE_GRID,
-        camera=CAMERA,
+        camera=CAMERA_OPTICS,
         target=REFERENCE_TARGET,
         platform=PLATFORM_MODEL,
         verify=canonical(config["reference_table"]["verify"]),

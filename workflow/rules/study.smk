@@ -53,12 +53,15 @@ rule study:
             caption="../report/study_sharp_frames.rst",
             category="Study",
         ),
-        strategies=report(
-            directory(f"{OUT}/figures/study_strategies"),
-            patterns=["{case}.png"],
-            caption="../report/study_strategies.rst",
-            category="Study",
-        ),
+        # one named figure per case of the config, so that a deleted one is replanned
+        strategies=[
+            report(
+                f"{OUT}/figures/study_strategies/{case}.png",
+                caption="../report/study_strategies.rst",
+                category="Study",
+            )
+            for case in STUDY_CASES
+        ],
     log:
         f"{OUT}/logs/study.log",
     benchmark:
@@ -71,5 +74,6 @@ rule study:
         platform=PLATFORM_MODEL,
         stroke=canonical(config["platform"]["stroke"]),
         figures=STUDY_FIGURES,
+        extrapolation=EXTRAPOLATION["study"],
     script:
         "../scripts/study.py"

@@ -14,6 +14,9 @@ def make() -> None:
     runs = [io.open_dataset(path) for path in snakemake.input.runs]
     tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
     ds = benchmark.gather(runs, dict(snakemake.params.split), tuned)
+    if snakemake.params.extrapolation:  # allowed by benchmark.allow_extrapolation (uavdamp.checks.extrapolation)
+        ds.attrs["extrapolation_warning"] = "; ".join(snakemake.params.extrapolation)
+        workflow.log_info(f"warning: {ds.attrs['extrapolation_warning']}")
     table = "\n".join(plots.markdown_table(ds, damper=str(d)) for d in ds.damper.values)
     workflow.log_info(table)
     io.write_text(table, snakemake.output.table)

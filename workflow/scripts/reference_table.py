@@ -3,7 +3,7 @@
 import os
 
 from uavdamp import io, workflow
-from uavdamp.camera import CameraModel
+from uavdamp.camera import CameraOptics
 from uavdamp.platform import PlatformParams
 from uavdamp.plots.reference_table import criteria_figure, reference_table_figure
 from uavdamp.reference_table import GridSpec, ReferenceGrid, VerifyOptions, chunks, criteria, grid, verify
@@ -11,7 +11,7 @@ from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
 p = snakemake.params
-spec = GridSpec.of(parse(ReferenceGrid, p.grid, "reference_table"), parse(CameraModel, p.camera, "camera"))
+spec = GridSpec.of(parse(ReferenceGrid, p.grid, "reference_table"), parse(CameraOptics, p.camera, "camera"))
 platform = parse(PlatformParams, p.platform, "platform")
 check = parse(VerifyOptions, p.verify, "reference_table.verify")
 criterion, window = p.target

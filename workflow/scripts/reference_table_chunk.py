@@ -4,7 +4,7 @@ import os
 from functools import partial
 
 from uavdamp import io, workflow
-from uavdamp.camera import CameraModel
+from uavdamp.camera import CameraOptics
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import GridSpec, ReferenceGrid, chunks, grid
 from uavdamp.settings import parse
@@ -13,7 +13,7 @@ workflow.start_log(snakemake.log[0])
 p = snakemake.params
 item = snakemake.wildcards.scatteritem  # "i-of-N"
 chunk, n_chunks = (int(v) for v in item.split("-of-"))
-spec = GridSpec.of(parse(ReferenceGrid, p.grid, "reference_table"), parse(CameraModel, p.camera, "camera"))
+spec = GridSpec.of(parse(ReferenceGrid, p.grid, "reference_table"), parse(CameraOptics, p.camera, "camera"))
 platform = parse(PlatformParams, p.platform, "platform")
 workflow.log_info(
     f"chunk {item}: {len(grid.chunk_points(spec, n_chunks, chunk - 1))} of {spec.size} points, "

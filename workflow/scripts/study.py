@@ -20,6 +20,9 @@ budget = parse(StrokeBudget, p.stroke, "platform.stroke")
 cases = io.open_dataset(snakemake.input.cases)
 model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
 ds = study.run_study(cases, platform, model, options, progress=True, budget=budget)
+if p.extrapolation:  # allowed by study.allow_extrapolation (uavdamp.checks.extrapolation)
+    ds.attrs["extrapolation_warning"] = "; ".join(p.extrapolation)
+    workflow.log_info(f"warning: {ds.attrs['extrapolation_warning']}")
 scalars = [
     v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}
 ]
@@ -33,9 +36,9 @@ io.save_figure(plots.tracked_frequency_figure(ds, fig["case_2"], "z"), snakemake
 io.save_figure(plots.passive_vs_anfis_figure(ds, fig["case_2"], "z", k_paper, **early), snakemake.output.fig13)
 io.save_figure(plots.blur_distribution_figure(ds), snakemake.output.blur)
 io.save_figure(plots.sharp_fraction_figure(ds), snakemake.output.sharp)
-folder = Path(snakemake.output.strategies)
-folder.mkdir(parents=True, exist_ok=True)
-for case in ds.case.values:
-    io.save_figure(plots.strategies_figure(ds, str(case), **early), folder / f"{case}.png")
+figures = {Path(path).stem: path for path in snakemake.output.strategies}  # one named output per case
+assert sorted(figures) == sorted(map(str, ds.case.values)), (sorted(figures), ds.case.values)
+for case, path in figures.items():
+    io.save_figure(plots.strategies_figure(ds, case, **early), path)
 config = {"study": {**cfg, "camera": p.camera}, "platform": {**p.platform, "stroke": p.stroke}}
 io.write_netcdf(ds, snakemake.output.comparison, config, section="study", command=workflow.snakemake_command(snakemake))

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from uavdamp.camera import CameraModel
+from uavdamp.camera import CameraOptics
 from uavdamp.image_quality import frame_metrics, pixel_attrs
 
 CRITERIA = {
@@ -68,7 +68,7 @@ def line_of_sight_criterion(response: xr.Dataset, window: tuple[float, float]) -
     return camera_criterion(angles, window)
 
 
-def blur_criterion(response: xr.Dataset, camera: CameraModel, window: tuple[float, float]) -> float:
+def blur_criterion(response: xr.Dataset, camera: CameraOptics, window: tuple[float, float]) -> float:
     """95th percentile of the frames' blur, px, exact projection (`image_quality.frame_metrics`) over `window`."""
     frames = frame_metrics(
         response.time.values,
@@ -81,7 +81,7 @@ def blur_criterion(response: xr.Dataset, camera: CameraModel, window: tuple[floa
     return float(np.percentile(frames.blur_px, 95))
 
 
-def response_criteria(response: xr.Dataset, windows: dict, camera: CameraModel) -> np.ndarray:
+def response_criteria(response: xr.Dataset, windows: dict, camera: CameraOptics) -> np.ndarray:
     """Every criterion (CRITERIA order) over every window (`windows` order): (n_criteria, n_windows)."""
     out = np.empty((len(CRITERIA), len(windows)))
     for j, window in enumerate(windows.values()):

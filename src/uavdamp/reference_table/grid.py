@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uavdamp.camera import CameraModel
+from uavdamp.camera import CameraOptics
 from uavdamp.reference_table import criteria as crit
 from uavdamp.reference_table.params import ReferenceGrid
 
@@ -40,10 +40,10 @@ class GridSpec:
     amplitude: float  # m
     duration: float  # s
     windows: dict  # {name: (start, end)} s, criterion windows
-    camera: CameraModel | None = None
+    camera: CameraOptics | None = None
 
     @classmethod
-    def of(cls, grid: ReferenceGrid, camera: CameraModel | None = None) -> GridSpec:
+    def of(cls, grid: ReferenceGrid, camera: CameraOptics | None = None) -> GridSpec:
         """The spec of a parsed grid section (and the camera of the blur criterion)."""
         return cls(
             freq_y=grid.freq_y.array(),

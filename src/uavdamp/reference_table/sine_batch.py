@@ -17,7 +17,7 @@ import math
 import numpy as np
 from scipy import sparse
 
-from uavdamp.camera import CameraModel
+from uavdamp.camera import CameraOptics
 from uavdamp.image_quality import frame_starts
 from uavdamp.platform.linear_plant import OUTPUTS, LinearPlant
 from uavdamp.platform.statespace import free_response_rows, sine_outputs
@@ -93,7 +93,7 @@ def pair_criteria(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(var_a[:, None] + var_b[None, :] + 2 * cov, 0.0))
 
 
-def exposure_weights(time: np.ndarray, camera: CameraModel, window: tuple[float, float]):
+def exposure_weights(time: np.ndarray, camera: CameraOptics, window: tuple[float, float]):
     """Interpolation to each frame's exposure points: (weights, samples, shape).
 
     weights: sparse (n_frames m, n_samples) from the image path at time[samples] (the samples it touches, the
@@ -118,7 +118,7 @@ def exposure_weights(time: np.ndarray, camera: CameraModel, window: tuple[float,
     return sparse.csr_matrix((vals, (rows, cols)), shape=(tau.size, samples.size)), samples, tau.shape
 
 
-def first_order_image_path(camera: CameraModel, channels: np.ndarray) -> np.ndarray:
+def first_order_image_path(camera: CameraOptics, channels: np.ndarray) -> np.ndarray:
     """(u, v), px, to first order: f_px (psi + y/D), f_px (z/D - theta) (`uavdamp.camera`).
 
     channels (time, 4, ...): camera y, z (m), yaw psi, pitch theta (rad); returns (time, 2, ...). Linear in
