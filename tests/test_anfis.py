@@ -627,3 +627,26 @@ def test_step_size_rule_counts_from_the_last_change():
     assert anfis_math.update_step_size(errors, 2.0, 4) == (2.0, 4)  # 2 errors since index 4
     step, change = anfis_math.update_step_size(errors, 2.0, 2)
     assert step == pytest.approx(2.2, rel=1e-15) and change == 6
+
+
+def test_a_fit_beyond_the_memory_limit_is_refused_with_its_estimate():
+    """Grid init, 2 MFs on 3 inputs: R = 8 rules, R (d + 1) = 32 coefficients; on 1000 rows the regressor and its copy
+    are 2 x 8 B x 1000 x 32 = 512,000 B, the Gram matrix 8 B x 32^2 = 8,192 B: 0.000520 GB, refused under 0.0005 GB
+    and fitted at 0.00053 GB."""
+    rng = np.random.default_rng(3)
+    X = rng.uniform(0.0, 1.0, (1000, 3))
+    y = X.sum(axis=1)
+    expected_gb = (2 * 8 * 1000 * 32 + 8 * 32**2) / 1e9
+    with pytest.raises(ValueError, match=rf"need about {expected_gb:.3g} GB \(1000 rows x 8 rules x 4 coefficients\)"):
+        ANFIS(n_mfs=2, epochs=1, max_memory_gb=0.0005).fit(X, y)
+    ANFIS(n_mfs=2, epochs=1, max_memory_gb=0.00053).fit(X, y)
+    with pytest.raises(ValueError, match="max_memory_gb must be a finite number > 0"):
+        ANFIS(max_memory_gb=0.0).fit(X, y)
+
+
+def test_the_red_teams_subtractive_fit_on_5_x_1e6_inputs_is_refused_not_crashed():
+    """5 rows of 1,000,000 inputs (it segfaulted in numpy.linalg.lstsq): 5 rules x 1,000,001 coefficients, a Gram
+    matrix of 8 B x (5,000,005)^2 = 2.0e5 GB alone."""
+    X = np.random.default_rng(0).uniform(size=(5, 1_000_000))
+    with pytest.raises(ValueError, match=r"need about 2e\+05 GB \(5 rows x 5 rules x 1000001 coefficients\)"):
+        ANFIS(init="subtractive", epochs=1).fit(X, np.arange(5.0))

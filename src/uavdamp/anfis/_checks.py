@@ -72,6 +72,7 @@ def check_params(est, n_inputs: int, n_samples: int) -> list[int]:
         ("step_decrease", lambda v: 0 < v < 1, "in (0, 1)"),
         ("min_sigma_frac", lambda v: 0 < v <= 1, "in (0, 1]"),
         ("ridge", lambda v: v >= 0, ">= 0"),
+        ("max_memory_gb", lambda v: v > 0, "> 0"),
         ("validation_fraction", lambda v: 0 <= v < 1, "in [0, 1)"),
     ]
     for name, ok, text in checks:

@@ -84,6 +84,13 @@ __all__ = ["ANFIS", "EXPECTED_FAILED_CHECKS", "NotFittedError", "loss_and_gradie
 EXPECTED_FAILED_CHECKS: dict[str, str] = {}
 
 
+def least_squares_bytes(n: int, n_rules: int, d: int) -> int:
+    """Bytes of the consequent least squares' largest arrays: the regressor (n, R (d + 1)) and the copy the SVD
+    fallback makes of it, and the Gram matrix (R (d + 1))^2, float64 (`uavdamp.anfis._math._solve_consequents`)."""
+    k = n_rules * (d + 1)
+    return 8 * (2 * n * k + k * k)
+
+
 class ANFIS(RegressorMixin, BaseEstimator):
     """First-order Takagi-Sugeno ANFIS regressor with Gaussian MFs and hybrid learning.
 
@@ -102,6 +109,8 @@ class ANFIS(RegressorMixin, BaseEstimator):
         step_increase, step_decrease: step-size factors (> 1 and in (0, 1)), see update_step_size.
         min_sigma_frac: floor of every sigma as a fraction of its input's range.
         ridge: relative Tikhonov term of the consequent least squares (>= 0, default 0).
+        max_memory_gb: a fit whose least squares would need more (GB, `least_squares_bytes`) is refused
+            before it allocates (default 4).
         validation_fraction: share of the training rows (seeded by ``random_state``) held out to
             choose the epoch, in [0, 1); 0 keeps the epoch of lowest training error (MATLAB
             without checking data). Ignored when ``fit`` is given X_val, y_val.
@@ -130,6 +139,7 @@ class ANFIS(RegressorMixin, BaseEstimator):
         step_decrease: float = 0.9,
         min_sigma_frac: float = 0.01,
         ridge: float = 0.0,
+        max_memory_gb: float = 4.0,
         validation_fraction: float = 0.0,
         random_state: int | None = 0,
         input_names: Sequence[str] | None = None,
@@ -148,6 +158,7 @@ class ANFIS(RegressorMixin, BaseEstimator):
         self.step_decrease = step_decrease
         self.min_sigma_frac = min_sigma_frac
         self.ridge = ridge
+        self.max_memory_gb = max_memory_gb
         self.validation_fraction = validation_fraction
         self.random_state = random_state
         self.input_names = input_names
@@ -228,6 +239,7 @@ class ANFIS(RegressorMixin, BaseEstimator):
             val = (_with_ones_row(np.clip((X_val - lo) / scale, 0.0, span_s)), (y_val - y_off) / y_scale)
         with threadpool_limits(limits=1, user_api="blas"):
             c, s, mf_input, rule_mf = self._initial_rules(Xs, ys, span_s, n_mfs, rng)
+            self._check_memory(len(ys), rule_mf.shape[0], d)
             s = np.maximum(s, self.min_sigma_frac)
             best, train_rmse, val_rmse, steps = self._train(
                 _with_ones_row(Xs), ys, val, c, s, mf_input, rule_mf, self.error_goal / y_scale
@@ -249,6 +261,16 @@ class ANFIS(RegressorMixin, BaseEstimator):
         self.step_sizes_ = np.array(steps)
         self._incidence_ = _incidence(rule_mf, c.size)
         return self
+
+    def _check_memory(self, n: int, n_rules: int, d: int) -> None:
+        """ValueError with the estimate when `least_squares_bytes` exceeds max_memory_gb."""
+        need = least_squares_bytes(n, n_rules, d)
+        if need > self.max_memory_gb * 1e9:
+            raise ValueError(
+                f"ANFIS fit refused: its least squares need about {need / 1e9:.3g} GB ({n} rows x {n_rules} rules x "
+                f"{d + 1} coefficients), above max_memory_gb = {self.max_memory_gb:g} GB; fewer rows or rules, or a "
+                "larger limit"
+            )
 
     def _train(self, X1T, y, val, c, s, mf_input, rule_mf, goal: float):
         """The hybrid-learning epochs in scaled units (``goal`` too); the best snapshot and the histories."""

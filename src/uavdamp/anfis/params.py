@@ -80,6 +80,7 @@ class AnfisOptions:
     log_damping: bool = setting()
     train_fraction: float = setting()  # 1
     seed: int = setting()
+    max_memory_gb: float = setting(default=4.0)  # GB, a fit needing more is refused (uavdamp.anfis.estimator)
 
     def validate(self) -> None:
         require(self.epochs >= 1, _W + "epochs", f"must be >= 1, got {self.epochs}")
@@ -100,7 +101,16 @@ class AnfisOptions:
 
     def estimator_params(self) -> dict:
         """The ANFIS parameters these options set (structure aside: the selection chooses it)."""
-        names = ("epochs", "error_goal", "step_size", "step_increase", "step_decrease", "min_sigma_frac", "ridge")
+        names = (
+            "epochs",
+            "error_goal",
+            "step_size",
+            "step_increase",
+            "step_decrease",
+            "min_sigma_frac",
+            "ridge",
+            "max_memory_gb",
+        )
         params = {name: getattr(self, name) for name in names}
         return {**params, "validation_fraction": self.validation_fraction, "random_state": self.seed}
 
