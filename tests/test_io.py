@@ -184,3 +184,14 @@ def test_a_lock_held_too_long_names_its_holder(tmp_path):
     finally:
         go.set()
         holder.join(30)
+
+
+def test_a_config_section_not_stored_is_named_with_the_file_and_what_is_stored(tmp_path):
+    ds = xr.Dataset({"x": ("t", [1.0], {"units": "m", "long_name": "x"})})
+    ds["t"] = ("t", [0.0], {"units": "s", "long_name": "t"})
+    path = io.write_netcdf(ds, tmp_path / "a.nc", {"study": {"duration_s": 1.0}}, section="study")
+    opened = io.open_dataset(path)
+    assert io.read_config_attr(opened, "study") == {"study": {"duration_s": 1.0}}
+    named = r"a\.nc: no attribute 'config_anfis': config section 'anfis' not stored \(stored: \['study'\]\)"
+    with pytest.raises(KeyError, match=named):
+        io.read_config_attr(opened, "anfis")

@@ -254,8 +254,14 @@ def kept_output(path, config: dict, *, section: str) -> bool:
 
 
 def read_config_attr(ds: xr.Dataset, section: str) -> dict:
-    """The config section stored in a dataset written by `write_netcdf`."""
-    return json.loads(ds.attrs[f"config_{section}"])
+    """The config section stored in a dataset written by `write_netcdf`; KeyError naming the attribute, the file and
+    the sections it holds when the section is not stored."""
+    key = f"config_{section}"
+    if key not in ds.attrs:
+        stored = sorted(name.removeprefix("config_") for name in ds.attrs if name.startswith("config_"))
+        source = ds.encoding.get("source", "the dataset")
+        raise KeyError(f"{source}: no attribute {key!r}: config section {section!r} not stored (stored: {stored})")
+    return json.loads(ds.attrs[key])
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
