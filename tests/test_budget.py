@@ -1,4 +1,4 @@
-"""The plan's budget counts the benchmark when its target is requested (issue 24: 1607 planned jobs were "about
+"""The plan's budget counts the benchmark when its target is requested (1607 planned jobs were once "about
 0.272 CPU min"): its counts against a count made here from the config's own lists."""
 
 from __future__ import annotations

@@ -317,7 +317,7 @@ def test_every_renamed_key_names_a_key_that_exists():
 
 
 def test_extrapolation_allowed_is_returned_as_the_runs_warning_and_refused_otherwise():
-    """A K or a tracker band beyond the reference table (issue 24): refused unless SECTION.allow_extrapolation,
+    """A K or a tracker band beyond the reference table: refused unless SECTION.allow_extrapolation,
     then the warning the run records; the shipped config lies inside, so nothing to record."""
     assert checks.extrapolation(load(load_config())) == {"study": [], "benchmark": []}
     quick = load_config("quick.yaml")

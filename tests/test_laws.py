@@ -365,7 +365,7 @@ def test_integer_displacements_are_read_as_floats():
 
 @pytest.mark.parametrize("name", ["a/b", "/tmp/law", "../up", "with space", ""])
 def test_a_plugin_name_that_is_not_a_safe_name_is_refused(monkeypatch, name):
-    """A registered name becomes part of output names (issue 24): only letters, digits and _ (the schema's)."""
+    """A registered name becomes part of output names: only letters, digits and _ (the schema's)."""
     monkeypatch.setattr(strategies, "REGISTRY", dict(strategies.REGISTRY))
     with pytest.raises(ValueError, match=r"^strategy name .* must match \[A-Za-z0-9_\]\+"):
         strategies.register(name)(lambda context: None)

@@ -11,6 +11,21 @@ import yaml
 from conftest import copy_workflow, snakemake
 
 # (override merged over quick.yaml, text the error must contain): the same refusals as tests/test_config.py
+
+
+def _case_named(name: str) -> dict:
+    """An override whose one study case, a valid helicopter case otherwise, is called `name`."""
+    case = {
+        "run": "imbalanced",
+        "mount": "cg",
+        "motion": "full",
+        "amplitude_m": 1.0e-3,
+        "amplitude_reading": "dominant",
+        "amplitude_scaling": "per_axis",
+    }
+    return {"study": {"cases": {name: case}}}
+
+
 BAD = {
     "freq-above-nyquist": (
         {"reference_table": {"freq_y_hz": {"start": 4.0, "stop": 200.0}}},
@@ -20,42 +35,16 @@ BAD = {
         {"study": {"stiffness_n_m": [10.0, 10.0]}},
         "study.stiffness_n_m: values must be unique",
     ),
-    # names that become paths (issue 24): a case named with / or an absolute path writes outside the output folder
+    # names that become paths: a case named with / or an absolute path writes outside the output folder
     "case-named-with-slash": (
-        {
-            "study": {
-                "cases": {
-                    "a/b": {
-                        "run": "imbalanced",
-                        "mount": "cg",
-                        "motion": "full",
-                        "amplitude_m": 1.0e-3,
-                        "amplitude_reading": "dominant",
-                        "amplitude_scaling": "per_axis",
-                    }
-                }
-            }
-        },
+        _case_named("a/b"),
         "study.cases: 'a/b' does not match '^[A-Za-z0-9_][A-Za-z0-9_.-]*$'",
     ),
     "case-named-absolute": (
-        {
-            "study": {
-                "cases": {
-                    "/tmp/x": {
-                        "run": "imbalanced",
-                        "mount": "cg",
-                        "motion": "full",
-                        "amplitude_m": 1.0e-3,
-                        "amplitude_reading": "dominant",
-                        "amplitude_scaling": "per_axis",
-                    }
-                }
-            }
-        },
+        _case_named("/tmp/x"),
         "study.cases: '/tmp/x' does not match",
     ),
-    # out of the ANFIS's training range (issue 24): a K in kN m-1, the tracker band beyond the table's frequencies
+    # out of the ANFIS's training range: a K in kN m-1, the tracker band beyond the table's frequencies
     "study-stiffness-in-kn-per-m": (
         {"study": {"stiffness_n_m": [0.01], "allow_extrapolation": False}},
         "study.stiffness_n_m: [0.01] N m-1 lies outside [10, 1000] N m-1, the stiffnesses the ANFIS is trained on "
@@ -70,7 +59,7 @@ BAD = {
         "study.tracking.min_freq_hz/max_freq_hz: the tracker band [3, 12] Hz lies outside [4, 10] Hz, the "
         "frequencies the ANFIS is trained on (reference_table.freq_y_hz and freq_z_hz); set study.allow_extrapolation",
     ),
-    # checked only inside jobs before (issue 24), after Snakemake had deleted their previous outputs
+    # checked only inside jobs before, after Snakemake had deleted their previous outputs
     "helicopter-run-shorter-than-the-study": (
         {"helicopter": {"solver": {"duration_s": 1.0}}},
         "study.duration_s: (2.0 s) is longer than the helicopter run 'imbalanced' of study.cases.case1 "
@@ -90,7 +79,7 @@ BAD = {
         {"benchmark": {"synthetic": [{"name": "noise", "kind": "random", "band_hz": [4.0, 300.0], "seed": 1}]}},
         "benchmark.synthetic[0] (noise).band_hz: 300 Hz must stay below",
     ),
-    # already refused before any job on main when issue 24 was filed (rerun then): kept so that they stay so
+    # already refused before any job on main before these checks were added: kept so that they stay so
     "rotor-speed-zero": (
         {"helicopter": {"main_rotor": {"omega_rad_s": 0.0}}},
         "helicopter.main_rotor.omega_rad_s: must be > 0",
@@ -170,7 +159,7 @@ def _refused(workdir, *args: str) -> str:
 
 
 def test_a_duplicated_yaml_key_is_refused_naming_the_file_and_the_lines(workdir):
-    """Snakemake's YAML reader keeps the last of two equal keys without a word (issue 24)."""
+    """Snakemake's YAML reader keeps the last of two equal keys without a word."""
     (workdir / "config" / "bad.yaml").write_text("study:\n  duration_s: 2.0\n  duration_s: 3.0\n")
     output = _refused(workdir, "all", "--configfile", "config/quick.yaml", "config/bad.yaml")
     assert "config/bad.yaml, line 3, column 3: duplicate key 'duration_s' (first given on line 2)" in output, output
@@ -199,7 +188,7 @@ def test_the_benchmark_counts_in_the_budget_when_it_is_requested(workdir):
 
 
 def test_a_key_typo_is_refused_in_a_few_lines_with_the_nearest_key(workdir):
-    """Not Snakemake's schema dump (issue 24: ~300 lines): the key, the nearest valid key and the rule."""
+    """Not Snakemake's schema dump (~300 lines): the key, the nearest valid key and the rule."""
     (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"study": {"duraton_s": 2.0}}))
     output = _refused(workdir, "all", "--configfile", "config/quick.yaml", "config/bad.yaml")
     message = (

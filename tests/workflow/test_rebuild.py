@@ -24,7 +24,7 @@ OUTPUTS = [
     ("anfis", "reports-quick/figures/anfis_selection.png"),
     ("excitation", "reports-quick/excitation/cases.nc"),
     ("study", "reports-quick/figures/study_fig12_tracked_frequency.png"),
-    # one named figure per case (issue 24: a directory() output was not rebuilt when one of its files was deleted)
+    # one named figure per case (a directory() output was not rebuilt when one of its files was deleted)
     ("study", "reports-quick/figures/study_strategies/case1.png"),
 ]
 

@@ -84,7 +84,7 @@ EDITS = {
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
     "study.tracking.window_s": (("study", "tracking", "window_s"), lambda v: v * 0.8, {"excitation", "study"}),
     "study.figures.case_1": (("study", "figures", "case_1"), lambda v: "case2", {"study"}),
-    # the sharp-frame threshold is the study's image metric, not the grid's blur (issue 24: it reran the grid)
+    # the sharp-frame threshold is the study's image metric, not the grid's blur (it once reran the grid)
     "camera.sharp_threshold_px": (("camera", "sharp_threshold_px"), lambda v: v * 2, {"study"}),
     # the grid's blur criterion uses the camera: its chunks, the table, the ANFIS and the study rerun
     "camera.exposure_s": (

@@ -1,4 +1,4 @@
-"""What the quick run records about its inputs beyond the ANFIS's training range (issue 24): every tracker update
+"""What the quick run records about its inputs beyond the ANFIS's training range: every tracker update
 that sat at its band edge, and the extrapolation the config allowed (config/quick.yaml allows the tracker's
 3-12 Hz band beyond its coarse table's 4-10 Hz)."""
 
