@@ -47,3 +47,32 @@ def test_the_force_input_is_the_dampers_and_only_the_isolated_mount_takes_one():
     mount = MountMotion.planar(np.zeros_like(t), np.zeros_like(t))
     with pytest.raises(ValueError, match="a force damper needs the isolated mount"):
         force_coupling.run(plant, t, mount, stiffness=10.0, law=laws.Constant(1.0), damper=force_coupling.Viscous())
+
+
+class _Recording(force_coupling.Viscous):
+    """The viscous damper, recording the stroke and rate at the start of every step it is advanced over."""
+
+    def reset(self, stroke) -> None:
+        super().reset(stroke)
+        self.starts = []
+
+    def step(self, h, x0, xd0, x1, xd1):
+        self.starts.append(np.concatenate([x0, xd0]))
+        return super().step(h, x0, xd0, x1, xd1)
+
+
+def test_each_step_starts_from_the_stroke_of_the_plants_state():
+    # the damper is stepped twice per solver step (predict, correct), both from the state the plant reached: the
+    # stroke and rate of the response at t_n (computed afterwards from the stored states, an independent path)
+    plant = LinearPlant.from_params(PARAMS)
+    h = PARAMS.time_step
+    t = np.arange(0.0, 0.5 + h / 2, h)
+    mount = MountMotion.planar(1e-3 * np.sin(2 * np.pi * 7.0 * t), 0.5e-3 * np.sin(2 * np.pi * 5.0 * t))
+    damper = _Recording()
+    out = force_coupling.run(plant, t, mount, stiffness=10.0, law=laws.Constant(20.0), damper=damper)
+    starts = np.array(damper.starts)
+    assert starts.shape == (2 * (t.size - 1), 4)
+    np.testing.assert_array_equal(starts[0::2], starts[1::2])
+    want = np.concatenate([out.isolator_stroke.values, out.isolator_velocity.values])
+    scale = np.abs(want).max(axis=1, keepdims=True)
+    np.testing.assert_allclose((starts[0::2].T - want[:, :-1]) / scale, 0.0, atol=1e-12)

@@ -382,3 +382,14 @@ def test_camera_angles_match_exudyn_time_stepping(plants):
         scale = np.abs(ref[name].values).max()
         assert scale > 0, name
         assert np.abs(lin[name].values - ref[name].values).max() < 0.02 * scale, name  # measured 0.4 %
+
+
+@pytest.mark.parametrize("stiffness, damping", [(10.0, 0.0), (10.0, 37.5), (1000.0, 199.0)])
+def test_plant_at_any_damping_is_the_assembled_one(isolated, stiffness, damping):
+    # state_space takes a and b as affine in C from the plants at C = 0 and 1; the assembly from M, K and D is the
+    # reference (C multiplies the damping matrix, so the two agree to the round-off of a few products)
+    model = isolated[1].model
+    fast, assembled = model.state_space(stiffness, damping), model._state_space(stiffness, damping)
+    for name in ("a", "b", "c", "du", "dv"):
+        want = getattr(assembled, name)
+        np.testing.assert_allclose(getattr(fast, name), want, rtol=0, atol=1e-12 * np.abs(want).max())

@@ -264,3 +264,23 @@ def test_the_smallest_valid_options_pass():
 def test_each_bad_option_is_refused_naming_its_key(change, message):
     with pytest.raises(ValueError, match=rf"^{message}$"):
         tracking.TrackerOptions(**{**VALID, **change}).validate()
+
+
+def test_esprit_is_computed_once_per_segment_and_again_for_a_changed_one(monkeypatch):
+    # every law and damper of a benchmark scenario tracks the same mount signal: one ESPRIT fit per distinct window
+    calls = []
+    original = tracking.esprit_lines
+    monkeypatch.setattr(tracking, "esprit_lines", lambda *a: calls.append(1) or original(*a))
+    monkeypatch.setattr(tracking, "_SEEN", tracking.OrderedDict())
+    x = TWO_LINES + 1e-3 * np.sin(np.arange(TWO_LINES.size))  # not a segment another test has put in the memory
+    first = tracking.esprit_dominant(x, DT, model_order=2, min_freq_hz=3, max_freq_hz=12)
+    again = tracking.esprit_dominant(x.copy(), DT, model_order=2, min_freq_hz=3, max_freq_hz=12)
+    assert first == again and len(calls) == 1
+    changed = x.copy()
+    changed[7] += 1e-9
+    tracking.esprit_dominant(changed, DT, model_order=2, min_freq_hz=3, max_freq_hz=12)
+    tracking.esprit_dominant(x, 2 * DT, model_order=2, min_freq_hz=3, max_freq_hz=12)
+    tracking.esprit_dominant(x, DT, model_order=3, min_freq_hz=3, max_freq_hz=12)
+    assert len(calls) == 4  # a changed sample, step or model order is a new fit
+    monkeypatch.setattr(tracking, "_SEEN", tracking.OrderedDict())
+    assert tracking.esprit_dominant(x, DT, model_order=2, min_freq_hz=3, max_freq_hz=12) == first  # computed afresh

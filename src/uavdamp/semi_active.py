@@ -34,7 +34,9 @@ def projected_damping(force: np.ndarray, v_rel: np.ndarray, c_min: float, c_max:
     if rate2 < _TINY_RATE:
         return c_min
     c = -float(np.dot(force, v_rel)) / rate2
-    return clip(c, DamperBounds(0.0, c_max), math.nan) if c > 0.0 else c_min
+    if not math.isfinite(c):
+        raise ValueError(f"damping: the projected demand is not finite ({c})")
+    return min(c, c_max) if c > 0.0 else c_min
 
 
 class Hybrid:

@@ -17,6 +17,8 @@ Methods (`study.tracking.method`):
 
 from __future__ import annotations
 
+import hashlib
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -111,14 +113,33 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
     return angle[line][order] / (2 * np.pi * dt), 2 * np.abs(coef[line][order])
 
 
+_SEEN: OrderedDict = OrderedDict()  # (segment digest, dt, model_order) -> esprit_lines' result, the last _SEEN_SIZE
+_SEEN_SIZE = 4096
+
+
+def _esprit_lines_seen(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.ndarray, np.ndarray]:
+    """`esprit_lines`, remembered by the segment's bytes: every law of a run, and every damper and stiffness of a
+    scenario, tracks the same mount signal at the same update times (a pure function: the same numbers)."""
+    key = (hashlib.blake2b(segment.tobytes(), digest_size=16).digest(), segment.size, float(dt), int(model_order))
+    if key in _SEEN:
+        _SEEN.move_to_end(key)
+        return _SEEN[key]
+    found = _SEEN[key] = esprit_lines(segment, dt, model_order)
+    for array in found:
+        array.flags.writeable = False
+    while len(_SEEN) > _SEEN_SIZE:
+        _SEEN.popitem(last=False)
+    return found
+
+
 def esprit_dominant(
     segment: np.ndarray, dt: float, *, model_order: int, min_freq_hz: float, max_freq_hz: float
 ) -> float:
     """Frequency, Hz, of the largest-amplitude ESPRIT line in [min_freq_hz, max_freq_hz]; NaN if none."""
-    segment = np.asarray(segment, dtype=float)
+    segment = np.ascontiguousarray(segment, dtype=float)
     if not np.any(segment != segment[0]):
         return float("nan")
-    freq, amp = esprit_lines(segment, dt, model_order)
+    freq, amp = _esprit_lines_seen(segment, dt, model_order)
     band = (freq >= min_freq_hz) & (freq <= max_freq_hz)
     if not np.any(band):
         return float("nan")

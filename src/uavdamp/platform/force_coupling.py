@@ -114,29 +114,31 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     z[0] = plant.model.initial_state(u[0], slope[0])
     applied, force = np.full(steps + 1, math.nan), np.zeros((steps + 1, 2))
     rows = _STROKE + _RATE
-    c_rows, du_rows, dv_rows = cont.c[rows], cont.du[rows], cont.dv[rows]
-
-    def stroke(state, n):
-        out = c_rows @ state + du_rows @ u[n] + dv_rows @ rate[n]
-        return out[:2], out[2:]
-
-    damper.reset(stroke(z[0], 0)[0])
-    phi, gu, gv = step.phi, step.gamma_u, step.gamma_v
+    c_rows = cont.c[rows]
+    # the stroke and its rate (4,) at grid point n from a state: c_rows @ state + the input's share, all n at once;
+    # at the step's end, of the free state less gamma_f F: c_rows @ free - (c_rows @ gamma_f) F + the share
+    share = u @ cont.du[rows].T + rate @ cont.dv[rows].T
+    drive = u[:-1] @ step.gamma_u.T + slope @ step.gamma_v.T  # (steps, ns): the input's part of each step
+    g_rows, phi = c_rows @ gamma_f, step.phi
+    end = c_rows @ z[0] + share[0]
+    damper.reset(end[:2])
     for n in range(steps):
         if n % per_update == 0:
             applied[n] = plant._demand(law, n, data, z[n])
             damper.command(applied[n])
         else:
             applied[n] = applied[n - 1]
-        x0, xd0 = stroke(z[n], n)
-        free = phi @ z[n] + gu @ u[n] + gv @ slope[n]
+        x0, xd0 = end[:2], end[2:]
+        free = phi @ z[n] + drive[n]
+        free_end = c_rows @ free + share[n + 1]
         saved = damper.save()
-        x1, xd1 = stroke(free - gamma_f @ damper.force(x0, xd0), n + 1)
-        mean = damper.step(h, x0, xd0, x1, xd1)
+        predicted = free_end - g_rows @ damper.force(x0, xd0)
+        mean = damper.step(h, x0, xd0, predicted[:2], predicted[2:])
         damper.restore(saved)
-        x1, xd1 = stroke(free - gamma_f @ mean, n + 1)
-        force[n] = damper.step(h, x0, xd0, x1, xd1)
+        corrected = free_end - g_rows @ mean
+        force[n] = damper.step(h, x0, xd0, corrected[:2], corrected[2:])
         z[n + 1] = free - gamma_f @ force[n]
+        end = free_end - g_rows @ force[n]
     applied[-1], force[-1] = applied[-2], force[-2]
     out = z @ cont.c.T + u @ cont.du.T + rate @ cont.dv.T
     response = plant._response(data, out, applied, stiffness)

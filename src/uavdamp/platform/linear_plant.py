@@ -192,6 +192,7 @@ class LinearModel:
         self.pq[u, :] = np.eye(m)
         self.pq[f, :] -= self.s
         self.hq, self.hv = self._output_maps(n)
+        self._affine: dict = {}  # K -> (plant at C = 0, its a and b per unit C): `state_space`
 
     def _output_maps(self, n: int) -> tuple[np.ndarray, np.ndarray]:
         """Output rows (OUTPUTS) as hq q + hv q'."""
@@ -207,7 +208,24 @@ class LinearModel:
         return hq, hv
 
     def state_space(self, stiffness: float, damping: float) -> StateSpace:
-        """The continuous plant at isolator K (N m-1) and C (N s m-1); both ignored for the rigid mount."""
+        """The continuous plant at isolator K (N m-1) and C (N s m-1); both ignored for the rigid mount.
+
+        C enters a and b affinely: a(C) = a(0) + C (a(1) - a(0)), likewise b, from the two plants at C = 0 and 1
+        kept per K (c, du, dv do not depend on C)."""
+        if not self.isolated:
+            return self._state_space(0.0, 0.0)
+        key = float(stiffness)
+        if key not in self._affine:
+            if len(self._affine) >= _CACHE_SIZE:
+                self._affine.pop(next(iter(self._affine)))
+            zero, one = self._state_space(key, 0.0), self._state_space(key, 1.0)
+            self._affine[key] = (zero, one.a - zero.a, one.b - zero.b)
+        zero, d_a, d_b = self._affine[key]
+        c = float(damping)
+        return StateSpace(a=zero.a + c * d_a, b=zero.b + c * d_b, c=zero.c, du=zero.du, dv=zero.dv)
+
+    def _state_space(self, stiffness: float, damping: float) -> StateSpace:
+        """The continuous plant at (K, C), assembled from the mass, stiffness and damping matrices."""
         lin, f, u = self.lin, self.free, self.mount_cols
         k_full = lin.stiffness0 + (stiffness if self.isolated else 0.0) * lin.stiffness_unit
         d_full = lin.damping0 + (damping if self.isolated else 0.0) * lin.damping_unit
@@ -307,17 +325,19 @@ class LinearPlant:
 
     def _demand(self, law, n: int, run: dict, z: np.ndarray) -> float:
         """The law's demand at grid point n (state z at t_n), clipped, with the Observation the Exudyn plant gives."""
-        model, iso = self.model, [self.model.lin.link_index[k] for k in _ISOLATOR]
-        q = model.tq @ z + model.pq @ run["u"][n]
-        q_rate = model.tv @ z + model.pq @ run["rate"][n]
+        if "isolator" not in run:  # the isolator rows of tq, tv and the inputs' share, once per run
+            model, iso = self.model, [self.model.lin.link_index[k] for k in _ISOLATOR]
+            pq = model.pq[iso]
+            run["isolator"] = (model.tq[iso], model.tv[iso], run["u"] @ pq.T, run["rate"] @ pq.T)
+        tq, tv, u_share, rate_share = run["isolator"]
         mount_v = run["rate"][n][1:3].copy()
         observation = Observation(
             t_now=float(run["time"][n]),
             time=run["time"][: n + 1],
             mount=run["u"][: n + 1],
-            base_velocity=mount_v + q_rate[iso],
+            base_velocity=mount_v + (tv @ z + rate_share[n]),
             mount_velocity=mount_v,
-            stroke=q[iso],
+            stroke=tq @ z + u_share[n],
         )
         return contract.clip(law(observation), self.bounds, observation.t_now)
 
