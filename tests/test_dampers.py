@@ -302,3 +302,24 @@ def test_held_stroke_is_the_linear_stroke():
         f_given = given.step(h, 2.0, x0, v0, x0 + h * v0, v0)
         np.testing.assert_array_equal(f_held, f_given)
         np.testing.assert_array_equal(held.force_mean, given.force_mean)
+
+
+def test_the_lagged_damper_follows_a_command_step_as_one_minus_exp():
+    # C' = (C_cmd - C) / tau from C = 0 with the command 1 N s/m from t = 0: C(t) = 1 - exp(-t / tau), and over a
+    # step [t_k, t_k + h] on a stroke moving at 1 m/s the mean force is the mean of C, 1 - tau / h e^(-t_k / tau)
+    # (1 - e^(-h / tau)) (closed forms)
+    from uavdamp.actuation import Lag
+
+    tau, h = 0.02, 2e-3
+    lag = Lag(tau)
+    lag.reset(np.zeros(2))
+    lag.command(0.0)
+    lag.command(1.0)
+    for k in range(40):
+        t_k = k * h
+        force = lag.step(h, np.array([t_k, 0.0]), np.ones(2), np.array([t_k + h, 0.0]), np.ones(2))
+        mean = 1.0 - tau / h * math.exp(-t_k / tau) * (1.0 - math.exp(-h / tau))
+        assert force[0] == pytest.approx(mean, rel=1e-12)
+        assert lag.force(np.zeros(2), np.ones(2))[0] == pytest.approx(1.0 - math.exp(-(t_k + h) / tau), rel=1e-12)
+    with pytest.raises(ValueError, match="damper_lag_s: must be > 0"):
+        Lag(0.0)

@@ -167,21 +167,3 @@ def test_table_lookup_reproduces_the_table_at_its_grid_points():
     assert model.predict([[1.0, 20.0, 5000.0]])[0] == pytest.approx(values[0, -1, -1])
     law = laws.AnfisLaw(model, 100.0, 7.0, lambda t, s, now: 12.0)  # the ANFIS law's plumbing takes it as is
     assert law(_observation()) == pytest.approx(values[-1, -1, 1])
-
-
-# -------------------------------------------------------------------------------------------------------------- lag
-
-
-def test_lag_step_response_is_one_minus_exp(plant, params):
-    """A command step 0 -> 1 N s/m at t = P gives C = 1 - exp(-(t - P) / tau) at the grid points (applied C)."""
-    h, period, tau = params.time_step, 0.1, 0.02
-    lagged = semi_active.Lagged(
-        laws.Schedule([0.0, 1.0], update_period=period), tau, h, period, DamperBounds(0.0, 200.0)
-    )
-    time, y, z = sine_yz(7.0, 8.0, 1.3e-3, 0.3, h)
-    applied = plant.run(time, MountMotion.planar(y, z), stiffness=10.0, law=lagged).damping.values[:-1]
-    t = time[:-1]
-    expected = np.where(t < period, 0.0, 1.0 - np.exp(-(t - period) / tau))
-    np.testing.assert_allclose(applied, expected, rtol=1e-12, atol=1e-15)
-    with pytest.raises(ValueError, match="damper_lag_s: must be > 0"):
-        semi_active.Lagged(laws.Constant(1.0), 0.0, h, period, BOUNDS)

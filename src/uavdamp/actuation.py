@@ -1,7 +1,8 @@
 """How a law's demand becomes the isolator's force in the benchmark: the damper models, and the step check.
 
     ideal    the demand, clipped, is the damping C at once (`uavdamp.contract.clip`)
-    lagged   a first-order lag of C, time constant benchmark.damper_lag_s (`uavdamp.semi_active.Lagged`)
+    lagged   a first-order lag of C, time constant benchmark.damper_lag_s (`Lag`), its force an input of the
+             linear plant like the MR damper's, for every law
     mr       the Spencer et al. (1997) MR damper (`uavdamp.dampers`) commanded by the voltage whose equivalent
              damping at the reference stroke is the clipped demand (`voltage_for_damping`), its force an input of
              the linear plant (`uavdamp.platform.force_coupling`)
@@ -174,10 +175,17 @@ class Lag:
         return self.c * np.asarray(xd, float)
 
     def step(self, h, x0, xd0, x1, xd1) -> np.ndarray:
-        decay = math.exp(-h / self.tau)
-        mean_c = self.cmd + (self.c - self.cmd) * self.tau / h * (1.0 - decay)
-        self.c = self.cmd + (self.c - self.cmd) * decay
-        return mean_c * (np.asarray(x1, float) - np.asarray(x0, float)) / h
+        return self.rate_gain(h) * (np.asarray(x1, float) - np.asarray(x0, float))
+
+    def rate_gain(self, h: float) -> float:
+        """k = mean C / h, N m-1 (the step's mean force is k (x_1 - x_0)); C advanced over the step."""
+        if h != getattr(self, "_h", None):  # the step's decay and mean weight, once per step length
+            self._h, decay = h, math.exp(-h / self.tau)
+            self._decay, self._mean = decay, self.tau / h * (1.0 - decay)
+        gap = self.c - self.cmd
+        mean_c = self.cmd + gap * self._mean
+        self.c = self.cmd + gap * self._decay
+        return mean_c / h
 
     def save(self):
         return self.c

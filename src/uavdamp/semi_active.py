@@ -4,7 +4,6 @@
                                    hybrid skyhook-groundhook (0 < alpha < 1), as a damping coefficient
     ClippedOptimal(...)            Dyke et al. (1996): an LQR force demand on the linear plant's state space from an
                                    observer, asked of the damper only where a damper can give it
-    Lagged(law, tau, ...)          a first-order lag of the damping (MR dampers: 10-30 ms), every solver step
 
 One C serves both axes (as in the paper): with v_rel = base - mount velocity (y, z) the damper force on the base
 is F = -C v_rel, so a desired force F_d is reproduced in the least-squares sense by C = -F_d . v_rel / |v_rel|^2,
@@ -34,9 +33,7 @@ def projected_damping(force: np.ndarray, v_rel: np.ndarray, c_min: float, c_max:
     if rate2 < _TINY_RATE:
         return c_min
     c = -float(np.dot(force, v_rel)) / rate2
-    if not math.isfinite(c):
-        raise ValueError(f"damping: the projected demand is not finite ({c})")
-    return min(c, c_max) if c > 0.0 else c_min
+    return clip(c, DamperBounds(0.0, c_max), math.nan) if c > 0.0 else c_min
 
 
 class Hybrid:
@@ -76,44 +73,6 @@ class Hybrid:
 
     def __call__(self, observation: Observation) -> float:
         return self.decide(observation.base_velocity, observation.mount_velocity)
-
-
-class Lagged:
-    """A first-order damper lag around any law: dC/dt = (C_cmd - C) / tau, run every solver step `time_step` s.
-
-    The inner law is asked at its own update times (every `inner_period` s); its demand is clipped to the bounds
-    (the command range of the damper) and becomes C_cmd. The returned C is the lag's state at each step, updated
-    exactly for a command held over the step, C_{k+1} = C_cmd + (C_k - C_cmd) exp(-time_step / tau): a unit step
-    of the command gives 1 - exp(-t / tau) at the grid points. The damper starts settled at the first command.
-    """
-
-    def __init__(self, law, tau: float, time_step: float, inner_period: float, bounds: DamperBounds):
-        if not (math.isfinite(tau) and tau > 0):
-            raise ValueError(f"damper_lag_s: must be > 0, got {tau}")
-        ratio = inner_period / time_step
-        if abs(ratio - round(ratio)) > 1e-9 or round(ratio) < 1:
-            raise ValueError(
-                f"update_period ({inner_period} s) must be a positive multiple of time_step ({time_step} s)"
-            )
-        self.law, self.tau, self.bounds = law, float(tau), bounds
-        self.update_period, self.per_update = float(time_step), int(round(ratio))
-        self.decay = math.exp(-time_step / tau)
-        self.name = f"{getattr(law, 'name', 'law')}_lagged"
-        self.reset()
-
-    def reset(self) -> None:
-        self.law.reset()
-        self._k, self._c, self._cmd = 0, math.nan, math.nan
-
-    def __call__(self, observation: Observation) -> float:
-        if self._k % self.per_update == 0:
-            self._cmd = clip(self.law(observation), self.bounds, observation.t_now)
-        if self._k == 0:
-            self._c = self._cmd
-        out = self._c
-        self._c = self._cmd + (self._c - self._cmd) * self.decay
-        self._k += 1
-        return out
 
 
 class ClippedOptimal:

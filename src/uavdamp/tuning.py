@@ -25,7 +25,6 @@ from uavdamp import actuation, scoring, strategies
 from uavdamp.contract import DamperBounds, MountMotion
 from uavdamp.platform import force_coupling
 from uavdamp.platform.linear_plant import LinearPlant
-from uavdamp.semi_active import Lagged
 
 # tuned parameter -> (controller, the TuningOptions field of its search range, units)
 TUNED = {
@@ -89,10 +88,6 @@ class Runner:
         law, per_step = strategy.law, actuation.is_per_step(strategy.law, self.params.time_step)
         if damper == "ideal" and not per_step:
             return self.isolated.run(*ctx.case_input, stiffness=ctx.stiffness, law=law)
-        if damper == "lagged" and not per_step:  # exact: the lag's C on the grid, one step map per value
-            inner = self.params.update_period if law.update_period is None else law.update_period
-            lagged = Lagged(law, self.options.damper_lag, self.params.time_step, inner, ctx.bounds)
-            return self.isolated.run(*ctx.case_input, stiffness=ctx.stiffness, law=lagged)
         return force_coupling.run(
             self.isolated, *ctx.case_input, stiffness=ctx.stiffness, law=law, damper=self.force_damper(damper)
         )

@@ -11,8 +11,12 @@ expm([[A, B_f], [0, 0]] h)); the damper is stepped on the stroke the plant gives
     correct   z = step(z) - gamma_f F_m, and the damper stepped again on that stroke (its state at the step's end).
 
 (choice: PECE with the step mean, as `uavdamp.dampers` recommends over a start-held force, which is 5-21 % off at
-2 ms). A viscous force damper reproduces the exact plant (tests/test_force_coupling.py). The law is asked at its
-update times as by `LinearPlant.run` (same Observation); its clipped demand is handed to the damper (`command`).
+2 ms). A damper whose step mean force is linear in the stroke, F_d = k (x_1 - x_0) with k known at the step's start
+(`rate_gain`: the viscous and the lagged damper), is solved for exactly instead: (I + k G) F_d = k (x_free - x_0),
+G the stroke's response to a unit force (the fixed point PECE iterates towards; PECE diverges where k |G| > 1,
+e.g. C = 200 N s m-1 at a 4 ms step). A viscous force damper converges to the exact plant at second order in the
+step (tests/test_force_coupling.py). The law is asked at its update times as by `LinearPlant.run` (same
+Observation); its clipped demand is handed to the damper (`command`).
 """
 
 from __future__ import annotations
@@ -48,6 +52,8 @@ class ForceDamper(Protocol):
 
     def restore(self, state) -> None: ...
 
+    # optional: rate_gain(h) -> k (N m-1), the step's mean force k (x_1 - x_0), the damper advanced over h
+
 
 class Viscous:
     """F_d = C x' with C the last command: the ideal damper as a force damper (the coupling's check)."""
@@ -65,6 +71,10 @@ class Viscous:
 
     def step(self, h, x0, xd0, x1, xd1) -> np.ndarray:
         return self.c * (np.asarray(x1, float) - np.asarray(x0, float)) / h  # mean of C x' over the step
+
+    def rate_gain(self, h: float) -> float:
+        """k, N m-1: the step's mean force is k (x_1 - x_0)."""
+        return self.c / h
 
     def save(self):
         return self.c
@@ -114,12 +124,17 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     z[0] = plant.model.initial_state(u[0], slope[0])
     applied, force = np.full(steps + 1, math.nan), np.zeros((steps + 1, 2))
     rows = _STROKE + _RATE
-    c_rows = cont.c[rows]
-    # the stroke and its rate (4,) at grid point n from a state: c_rows @ state + the input's share, all n at once;
-    # at the step's end, of the free state less gamma_f F: c_rows @ free - (c_rows @ gamma_f) F + the share
-    share = u @ cont.du[rows].T + rate @ cont.dv[rows].T
-    drive = u[:-1] @ step.gamma_u.T + slope @ step.gamma_v.T  # (steps, ns): the input's part of each step
-    g_rows, phi = c_rows @ gamma_f, step.phi
+    c_rows, ns = cont.c[rows], cont.n_states
+    # one product per step gives the free state (the step with no damper force) and its stroke and rate (4,) at the
+    # step's end: rows [phi; c_rows phi] on the state, plus the input's part of both, all steps at once; a force F
+    # held over the step takes [gamma_f; c_rows gamma_f] F off both
+    drive = u[:-1] @ step.gamma_u.T + slope @ step.gamma_v.T  # (steps, ns)
+    share = u @ cont.du[rows].T + rate @ cont.dv[rows].T  # (steps + 1, 4): the input's part of the stroke rows
+    free_map = np.vstack([step.phi, c_rows @ step.phi])
+    free_drive = np.hstack([drive, drive @ c_rows.T + share[1:]])
+    force_rows = np.vstack([gamma_f, c_rows @ gamma_f])
+    g_rows = force_rows[ns:]
+    linear, g_stroke, eye = hasattr(damper, "rate_gain"), g_rows[:2], np.eye(2)  # module docstring
     end = c_rows @ z[0] + share[0]
     damper.reset(end[:2])
     for n in range(steps):
@@ -129,16 +144,20 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
         else:
             applied[n] = applied[n - 1]
         x0, xd0 = end[:2], end[2:]
-        free = phi @ z[n] + drive[n]
-        free_end = c_rows @ free + share[n + 1]
-        saved = damper.save()
-        predicted = free_end - g_rows @ damper.force(x0, xd0)
-        mean = damper.step(h, x0, xd0, predicted[:2], predicted[2:])
-        damper.restore(saved)
-        corrected = free_end - g_rows @ mean
-        force[n] = damper.step(h, x0, xd0, corrected[:2], corrected[2:])
-        z[n + 1] = free - gamma_f @ force[n]
-        end = free_end - g_rows @ force[n]
+        free = free_map @ z[n] + free_drive[n]  # (ns + 4,): the free state, then its stroke and rate
+        free_end = free[ns:]
+        if linear:
+            k = damper.rate_gain(h)
+            force[n] = np.linalg.solve(eye + k * g_stroke, k * (free_end[:2] - x0))
+        else:
+            saved = damper.save()
+            predicted = free_end - g_rows @ damper.force(x0, xd0)
+            mean = damper.step(h, x0, xd0, predicted[:2], predicted[2:])
+            damper.restore(saved)
+            corrected = free_end - g_rows @ mean
+            force[n] = damper.step(h, x0, xd0, corrected[:2], corrected[2:])
+        state = free - force_rows @ force[n]
+        z[n + 1], end = state[:ns], state[ns:]
     applied[-1], force[-1] = applied[-2], force[-2]
     out = z @ cont.c.T + u @ cont.du.T + rate @ cont.dv.T
     response = plant._response(data, out, applied, stiffness)
