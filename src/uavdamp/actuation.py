@@ -162,6 +162,7 @@ class Lag:
         if not (math.isfinite(tau) and tau > 0):
             raise ValueError(f"damper_lag_s: must be > 0, got {tau}")
         self.tau = float(tau)
+        self._h = None  # the step length the decay and mean weight below were computed for (`rate_gain`)
 
     def reset(self, stroke) -> None:
         self.c, self.cmd = math.nan, math.nan
@@ -179,7 +180,7 @@ class Lag:
 
     def rate_gain(self, h: float) -> float:
         """k = mean C / h, N m-1 (the step's mean force is k (x_1 - x_0)); C advanced over the step."""
-        if h != getattr(self, "_h", None):  # the step's decay and mean weight, once per step length
+        if h != self._h:  # the step's decay and mean weight, once per step length
             self._h, decay = h, math.exp(-h / self.tau)
             self._decay, self._mean = decay, self.tau / h * (1.0 - decay)
         gap = self.c - self.cmd

@@ -18,6 +18,7 @@ Methods (`study.tracking.method`):
 from __future__ import annotations
 
 import hashlib
+import threading
 from collections import OrderedDict
 from dataclasses import dataclass
 
@@ -115,20 +116,24 @@ def esprit_lines(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.n
 
 _SEEN: OrderedDict = OrderedDict()  # (segment digest, dt, model_order) -> esprit_lines' result, the last _SEEN_SIZE
 _SEEN_SIZE = 4096
+_SEEN_LOCK = threading.Lock()  # joblib's threads may share the memory
 
 
 def _esprit_lines_seen(segment: np.ndarray, dt: float, model_order: int) -> tuple[np.ndarray, np.ndarray]:
     """`esprit_lines`, remembered by the segment's bytes: every law of a run, and every damper and stiffness of a
     scenario, tracks the same mount signal at the same update times (a pure function: the same numbers)."""
     key = (hashlib.blake2b(segment.tobytes(), digest_size=16).digest(), segment.size, float(dt), int(model_order))
-    if key in _SEEN:
-        _SEEN.move_to_end(key)
-        return _SEEN[key]
-    found = _SEEN[key] = esprit_lines(segment, dt, model_order)
+    with _SEEN_LOCK:
+        if key in _SEEN:
+            _SEEN.move_to_end(key)
+            return _SEEN[key]
+    found = esprit_lines(segment, dt, model_order)
     for array in found:
         array.flags.writeable = False
-    while len(_SEEN) > _SEEN_SIZE:
-        _SEEN.popitem(last=False)
+    with _SEEN_LOCK:
+        _SEEN[key] = found
+        while len(_SEEN) > _SEEN_SIZE:
+            _SEEN.popitem(last=False)
     return found
 
 
