@@ -18,6 +18,15 @@ from uavdamp.reference_table import GridSpec, ReferenceGrid, chunks, grid
 from uavdamp.settings import parse, view
 
 
+def _spawn_holder(hold, path):
+    """(process, first event, second event): `hold(path, first, second)` started in a spawned process."""
+    ctx = multiprocessing.get_context("spawn")
+    first, second = ctx.Event(), ctx.Event()
+    holder = ctx.Process(target=hold, args=(str(path), first, second))
+    holder.start()
+    return holder, first, second
+
+
 def _hold(path, ready, release):
     with chunks.exclusive(path):
         ready.set()
@@ -27,10 +36,7 @@ def _hold(path, ready, release):
 def test_a_second_writer_stops_at_once_naming_the_file(tmp_path):
     """Another process holds the chunk's lock (a killed run's surviving job): the second writer is refused."""
     target = tmp_path / "chunks" / "2-of-3.nc"
-    ctx = multiprocessing.get_context("spawn")
-    ready, release = ctx.Event(), ctx.Event()
-    holder = ctx.Process(target=_hold, args=(str(target), ready, release))
-    holder.start()
+    holder, ready, release = _spawn_holder(_hold, target)
     try:
         assert ready.wait(60)
         with pytest.raises(ValueError, match=rf"2-of-3.nc: another process \(.*~{holder.pid}, host~pid\) has held"):
@@ -73,10 +79,7 @@ def test_a_job_that_finds_its_chunk_locked_waits_and_keeps_the_holders_finished_
     """The --unlock race: another run's job holds the chunk's lock; this job waits, finds the chunk the holder
     wrote valid and keeps it (same bytes, same mtime) without computing; it succeeds."""
     target = tmp_path / "chunks" / "1-of-3.nc"
-    ctx = multiprocessing.get_context("spawn")
-    ready, go = ctx.Event(), ctx.Event()
-    holder = ctx.Process(target=_hold_then_write, args=(str(target), ready, go))
-    holder.start()
+    holder, ready, go = _spawn_holder(_hold_then_write, target)
     try:
         assert ready.wait(60)
         go.set()

@@ -13,10 +13,10 @@ expm([[A, B_f], [0, 0]] h)); the damper is stepped on the stroke the plant gives
 (choice: PECE with the step mean, as `uavdamp.dampers` recommends over a start-held force, which is 5-21 % off at
 2 ms). A damper whose step mean force is linear in the stroke, F_d = k (x_1 - x_0) with k known at the step's start
 (`rate_gain`: the viscous and the lagged damper), is solved for exactly instead: (I + k G) F_d = k (x_free - x_0),
-G the stroke's response to a unit force (the fixed point PECE iterates towards; PECE diverges where k |G| > 1,
-e.g. C = 200 N s m-1 at a 4 ms step). A viscous force damper converges to the exact plant at second order in the
-step (tests/test_force_coupling.py). The law is asked at its update times as by `LinearPlant.run` (same
-Observation); its clipped demand is handed to the damper (`command`).
+G the stroke's response to a unit force: the fixed point of F_d <- k (x_free - G F_d - x_0), of which PECE takes
+two steps (with C = 200 N s m-1 at a 4 ms step PECE diverged, the exact step did not). A viscous force damper
+converges to the exact plant at second order in the step (both: tests/test_force_coupling.py). The law is asked at
+its update times as by `LinearPlant.run` (same Observation); its clipped demand is handed to the damper (`command`).
 """
 
 from __future__ import annotations
