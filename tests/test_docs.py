@@ -76,3 +76,23 @@ def test_the_configuration_page_includes_the_generated_key_reference():
     text = (ROOT / "docs" / "configuration.md").read_text()
     assert '--8<-- "config/README.md"' in text, "include config/README.md, do not copy it"
     assert "BEGIN GENERATED" not in text
+
+
+def test_every_docs_page_named_in_the_config_code_and_rules_exists():
+    """A `docs/....md` path in the README, a config comment, a module, a script, a rule or a report caption names a
+    real page (mkdocs checks links inside docs/ only; config/config.yaml once pointed at a moved page)."""
+    sources = [
+        ROOT / "README.md",
+        *(ROOT / "config").glob("*.yaml"),
+        *(ROOT / "src").rglob("*.py"),
+        *(ROOT / "workflow").rglob("*"),
+    ]
+    named = {
+        (path.relative_to(ROOT), page)
+        for path in sources
+        if path.is_file() and path.suffix in {".md", ".yaml", ".py", ".smk", ".rst", ""}
+        for page in re.findall(r"\bdocs/[\w/.-]+?\.md\b", path.read_text(errors="ignore"))
+    }
+    assert named, "no docs/ path found: the pattern is wrong"
+    missing = sorted((str(path), page) for path, page in named if not (ROOT / page).is_file())
+    assert not missing, f"pages named but absent (file, page): {missing}"
