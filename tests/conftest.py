@@ -91,6 +91,24 @@ class FunctionLaw:
         return self.fn(observation)
 
 
+def apt_install(packages: list[str], log=print) -> str | None:
+    """Install Debian packages with apt-get (CI runs as root on a bare machine); None when done, else why not."""
+    if os.geteuid() != 0:
+        return "not root"
+    if shutil.which("apt-get") is None:
+        return "no apt-get"
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    log(f"installing {' '.join(packages)} with apt-get")
+    for cmd in (
+        ["apt-get", "update", "-qq"],
+        ["apt-get", "install", "-y", "-qq", "--no-install-recommends", *packages],
+    ):
+        result = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
+        if result.returncode != 0:
+            return f"{' '.join(cmd)} failed: {result.stderr.strip()[-800:]}"
+    return None
+
+
 def copy_workflow(dest: Path) -> Path:
     """Copy what Snakemake needs (workflow/, config/) into `dest`; return it."""
     dest.mkdir(parents=True, exist_ok=True)

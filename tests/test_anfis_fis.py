@@ -9,7 +9,7 @@ import subprocess
 
 import numpy as np
 import pytest
-from conftest import anfis_options
+from conftest import anfis_options, apt_install
 from sklearn.exceptions import NotFittedError
 from sklearn.linear_model import LinearRegression
 
@@ -287,6 +287,17 @@ def evaluate_engine(engine, X):
     return np.array(out)
 
 
+def install_fuzzylite() -> str:
+    """The C++ fuzzylite's command, installed from Debian (as the SLURM tests install SLURM); skip if it cannot be."""
+    why = apt_install(["fuzzylite"])
+    binary = shutil.which("fuzzylite")
+    if binary is None:
+        pytest.skip(
+            f"pyfuzzylite has no FisImporter and the C++ fuzzylite is absent ({why or 'not found after apt-get'})"
+        )
+    return binary
+
+
 def fuzzylite_engine(fl, text, tmp_path):
     """pyfuzzylite's engine of the .fis text, imported by fuzzylite's own FIS importer.
 
@@ -295,9 +306,7 @@ def fuzzylite_engine(fl, text, tmp_path):
     `fuzzylite`: fis -> FLL, 17 decimals) read by pyfuzzylite's FllImporter; else skip."""
     if hasattr(fl, "FisImporter"):
         return fl.FisImporter().from_string(text)
-    binary = shutil.which("fuzzylite")
-    if binary is None:
-        pytest.skip("pyfuzzylite has no FisImporter and the C++ fuzzylite (apt-get install fuzzylite) is absent")
+    binary = shutil.which("fuzzylite") or install_fuzzylite()
     (tmp_path / "model.fis").write_text(text)
     command = [binary, "-i", "model.fis", "-if", "fis", "-o", "model.fll", "-of", "fll", "-decimals", "17"]
     subprocess.run(command, cwd=tmp_path, check=True, capture_output=True, timeout=60)

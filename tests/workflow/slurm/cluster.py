@@ -32,7 +32,9 @@ import tempfile
 import time
 from pathlib import Path
 
-PACKAGES = ("slurmctld", "slurmd", "slurm-client", "munge")
+from conftest import apt_install
+
+PACKAGES = ["slurmctld", "slurmd", "slurm-client", "munge"]
 BINARIES = (
     "munged",
     "munge",
@@ -80,19 +82,9 @@ def ensure_packages(log=print) -> None:
     """Install the Debian packages when a binary is missing; ClusterUnavailable when that cannot be."""
     if not _missing_binaries():
         return
-    if os.geteuid() != 0:
-        raise ClusterUnavailable(f"SLURM/munge not installed ({', '.join(_missing_binaries())}) and not root")
-    if shutil.which("apt-get") is None:
-        raise ClusterUnavailable("SLURM/munge not installed and no apt-get to install them")
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    log(f"installing {' '.join(PACKAGES)} with apt-get")
-    for cmd in (
-        ["apt-get", "update", "-qq"],
-        ["apt-get", "install", "-y", "-qq", "--no-install-recommends", *PACKAGES],
-    ):
-        result = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=600)
-        if result.returncode != 0:
-            raise ClusterUnavailable(f"{' '.join(cmd)} failed: {result.stderr.strip()[-800:]}")
+    why = apt_install(PACKAGES, log)
+    if why is not None:
+        raise ClusterUnavailable(f"SLURM/munge not installed ({', '.join(_missing_binaries())}): {why}")
     if _missing_binaries():
         raise ClusterUnavailable(f"still missing after apt-get: {', '.join(_missing_binaries())}")
 
