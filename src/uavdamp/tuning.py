@@ -5,6 +5,7 @@
     tune(inputs, params, options)  every tuned parameter per family (benchmark.tuning.criteria: one criterion per
                                    family, `uavdamp.scoring.FAMILIES`) and stiffness, on the tuning scenarios only
     merge_tuned, tuned_at          the tuning jobs' datasets as one; the parameters at (K, criterion)
+    register_tuned(key, ...)       a plug-in law's parameter, tuned like the built-in ones (from the plug-in's file)
 
 Each parameter of a controller minimises the mean over the tuning scenarios of J[criterion] by
 `strategies.best_constant` in its range (the hybrid's gain for each alpha), once per tuning criterion; runs are
@@ -21,7 +22,7 @@ import numpy as np
 import xarray as xr
 from threadpoolctl import threadpool_limits
 
-from uavdamp import actuation, scoring, strategies
+from uavdamp import actuation, registry, scoring, strategies
 from uavdamp.contract import DamperBounds, MountMotion
 from uavdamp.platform import force_coupling
 from uavdamp.platform.linear_plant import LinearPlant
@@ -37,6 +38,19 @@ TUNED = {
 }
 _UNITS = {**{k: v[2] for k, v in TUNED.items()}, "hybrid_alpha": "1", "clipped_optimal_q_scale": "m"}
 TUNED_CONTROLLERS = {v[0] for v in TUNED.values()}
+RANGES = ("damping_range", "gain_range", "r_scale_range")  # the benchmark.tuning ranges a parameter is searched in
+
+
+def register_tuned(key: str, controller: str, range_field: str, units: str) -> None:
+    """Tune `key` (the name the strategy `controller`'s factory reads from ``ctx.tuned``) on the tuning scenarios in
+    ``benchmark.tuning.<range_field>``, per tuning criterion and K, like the built-in parameters (`TUNED`). A plug-in
+    calls it from its own file; the tuned value reaches its factory in the benchmark's runs and in the budget's run
+    count. ValueError names a key that is taken or not a safe name, or a range that is not one of `RANGES`."""
+    if range_field not in RANGES:
+        raise ValueError(f"tuned parameter {key!r}: range {range_field!r} is not one of benchmark.tuning's {RANGES}")
+    registry.add(TUNED, "tuned parameter", key)((controller, range_field, units))
+    _UNITS[key] = units
+    TUNED_CONTROLLERS.add(controller)
 
 
 def case_of(ds: xr.Dataset) -> tuple:

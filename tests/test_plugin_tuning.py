@@ -1,0 +1,85 @@
+"""A plug-in law's own tuned parameter (`uavdamp.tuning.register_tuned`): tuned on the tuning scenarios exactly as
+a built-in one, run once per tuning criterion, counted in the budget, and refused when taken or badly ranged.
+
+The expected values come from the built-in passive_tuned: the test's plug-in is the same law (a constant C read
+from ``ctx.tuned``) under another name, so its search must land where the built-in one does."""
+
+from dataclasses import replace
+
+import pytest
+from conftest import typed_config
+
+from uavdamp import benchmark, budget, laws, scenarios, strategies, tuning
+
+CONFIG = typed_config("quick.yaml")
+BENCH = CONFIG.benchmark
+
+
+@pytest.fixture
+def my_passive():
+    """The plug-in "my_passive" (C = ctx.tuned["my_passive_damping"]) registered for one test, then removed."""
+    saved = dict(tuning.TUNED), dict(tuning._UNITS), set(tuning.TUNED_CONTROLLERS)
+
+    @strategies.register("my_passive")
+    def factory(ctx):
+        return strategies.Strategy("my_passive", "isolated", laws.Constant(float(ctx.tuned["my_passive_damping"])))
+
+    tuning.register_tuned("my_passive_damping", "my_passive", "damping_range", "N s m-1")
+    yield
+    strategies.REGISTRY.pop("my_passive")
+    for table, old in zip((tuning.TUNED, tuning._UNITS, tuning.TUNED_CONTROLLERS), saved, strict=True):
+        table.clear()
+        table.update(old)
+
+
+def test_the_plugin_parameter_is_tuned_like_the_built_in_one(my_passive):
+    names = sorted(scenarios.scenario_specs(BENCH))
+    split = scenarios.split(names, BENCH.split.tuning_fraction, BENCH.split.seed)
+    name = next(n for n in names if split[n] == "tuning")
+    params = CONFIG.platform
+    inputs = {name: scenarios.scenario_input(name, BENCH, CONFIG.helicopter, params.time_step)}
+    options = replace(
+        BENCH, tracking=CONFIG.study.tracking, camera=CONFIG.camera, controllers=("passive_tuned", "my_passive")
+    )
+    tuned = benchmark.tune(inputs, params, options)
+    assert tuned.my_passive_damping.attrs["units"] == "N s m-1"
+    assert tuned.my_passive_damping.sizes == tuned.passive_damping.sizes
+    assert (tuned.my_passive_damping.values == tuned.passive_damping.values).all()
+    assert (tuned.my_passive_damping_cost.values == tuned.passive_damping_cost.values).all()
+    at = tuning.tuned_at(tuned, BENCH.stiffness[0], BENCH.tuning.criteria[0])
+    assert at["my_passive_damping"] == at["passive_damping"]
+
+
+def test_the_plugin_law_runs_once_per_tuning_criterion(my_passive):
+    options = replace(BENCH, controllers=("passive_tuned", "my_passive"))
+    runs = benchmark._runs("my_passive", options)
+    assert runs == benchmark._runs("passive_tuned", options)
+    assert [criterion for criterion, _ in runs] == list(BENCH.tuning.criteria)
+
+
+def test_the_budget_counts_the_plugin_search(my_passive):
+    """One more parameter adds tuning scenarios x K x criteria x (n_candidates + max_refine) runs (budget docstring)."""
+    config = typed_config("quick.yaml")
+    base = replace(config, benchmark=replace(config.benchmark, controllers=("rigid", "passive_tuned")))
+    more = replace(config, benchmark=replace(config.benchmark, controllers=("rigid", "passive_tuned", "my_passive")))
+    names = sorted(scenarios.scenario_specs(BENCH))
+    n_tuning = sum(
+        role == "tuning" for role in scenarios.split(names, BENCH.split.tuning_fraction, BENCH.split.seed).values()
+    )
+    t = BENCH.tuning
+    search = n_tuning * len(BENCH.stiffness) * len(t.criteria) * (t.n_candidates + t.max_refine)
+    assert budget.benchmark_runs(more)["tuning_runs"] - budget.benchmark_runs(base)["tuning_runs"] == search
+
+
+@pytest.mark.parametrize(
+    ("key", "range_field", "message"),
+    [
+        ("passive_damping", "damping_range", "registered twice"),
+        ("my_gain", "speed_range", "not one of benchmark.tuning's"),
+        ("my gain", "gain_range", "must match"),
+    ],
+)
+def test_a_taken_key_an_unknown_range_or_an_unsafe_name_is_refused(my_passive, key, range_field, message):
+    with pytest.raises(ValueError, match=message):
+        tuning.register_tuned(key, "my_passive", range_field, "N s m-1")
+    assert key not in tuning.TUNED or key == "passive_damping"
