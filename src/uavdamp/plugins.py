@@ -2,7 +2,8 @@
 
 The config's top-level ``plugins`` lists files (paths relative to the working directory, as Snakemake runs); each is
 imported by `load` with importlib from its path (no package, no sys.path edit), and registers what it defines with
-`uavdamp.strategies.register` when it is imported. One registry serves the study (``study.strategies``) and the
+`uavdamp.strategies.register` when it is imported (and a parameter the benchmark should tune with
+`uavdamp.tuning.register_tuned`). One registry serves the study (``study.strategies``) and the
 benchmark (``benchmark.controllers``); `uavdamp.checks` checks both lists against it after loading the plug-ins.
 
 Provenance: `load` records each file's path and SHA-256 (`provenance`), and `uavdamp.io.write_netcdf` writes them into

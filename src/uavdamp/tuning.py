@@ -27,7 +27,7 @@ from uavdamp.contract import DamperBounds, MountMotion
 from uavdamp.platform import force_coupling
 from uavdamp.platform.linear_plant import LinearPlant
 
-# tuned parameter -> (controller, the TuningOptions field of its search range, units)
+# tuned parameter -> (controller, its search range: a TuningOptions range's name or a plug-in's own (min, max), units)
 TUNED = {
     "passive_damping": ("passive_tuned", "damping_range", "N s m-1"),
     "skyhook_c_max": ("skyhook_on_off", "damping_range", "N s m-1"),
@@ -41,16 +41,28 @@ TUNED_CONTROLLERS = {v[0] for v in TUNED.values()}
 RANGES = ("damping_range", "gain_range", "r_scale_range")  # the benchmark.tuning ranges a parameter is searched in
 
 
-def register_tuned(key: str, controller: str, range_field: str, units: str) -> None:
-    """Tune `key` (the name the strategy `controller`'s factory reads from ``ctx.tuned``) on the tuning scenarios in
-    ``benchmark.tuning.<range_field>``, per tuning criterion and K, like the built-in parameters (`TUNED`). A plug-in
-    calls it from its own file; the tuned value reaches its factory in the benchmark's runs and in the budget's run
-    count. ValueError names a key that is taken or not a safe name, or a range that is not one of `RANGES`."""
-    if range_field not in RANGES:
-        raise ValueError(f"tuned parameter {key!r}: range {range_field!r} is not one of benchmark.tuning's {RANGES}")
-    registry.add(TUNED, "tuned parameter", key)((controller, range_field, units))
+def register_tuned(key: str, controller: str, search, units: str) -> None:
+    """Tune `key` (the name the strategy `controller`'s factory reads from ``ctx.tuned``) on the tuning scenarios, per
+    tuning criterion and K, like the built-in parameters (`TUNED`). `search`: the name of a ``benchmark.tuning``
+    range (`RANGES`) or the plug-in's own (min, max) with 0 < min < max, in `units` (searched on a log grid). A
+    plug-in calls it from its own file; the tuned value reaches its factory in the benchmark's runs, and its search
+    the budget's run count. ValueError names a key that is taken or not a safe name, or a bad range."""
+    if isinstance(search, str):
+        if search not in RANGES:
+            raise ValueError(f"tuned parameter {key!r}: range {search!r} is not one of benchmark.tuning's {RANGES}")
+    else:
+        bounds = tuple(float(v) for v in search)
+        if not (len(bounds) == 2 and 0 < bounds[0] < bounds[1] < math.inf):
+            raise ValueError(f"tuned parameter {key!r}: range {tuple(search)} needs (min, max) with 0 < min < max")
+        search = bounds
+    registry.add(TUNED, "tuned parameter", key)((controller, search, units))
     _UNITS[key] = units
     TUNED_CONTROLLERS.add(controller)
+
+
+def search_range(options, search) -> tuple[float, float]:
+    """(min, max) of a `TUNED` entry's search range: benchmark.tuning's named range (`options`), or its own."""
+    return tuple(getattr(options, search)) if isinstance(search, str) else search
 
 
 def case_of(ds: xr.Dataset) -> tuple:
@@ -143,17 +155,18 @@ def tune(inputs: dict[str, xr.Dataset], params, options, mr=None) -> xr.Dataset:
             evaluated: dict = {}  # (controller, key, alpha, value) -> [J dict per case]: shared by the criteria
             for criterion in o.criteria:
                 tuned = {"clipped_optimal_q_scale": o.q_scale}
-                for key, (controller, field, _) in TUNED.items():
+                for key, (controller, span, _) in TUNED.items():
                     if controller not in options.controllers:
                         continue
                     search = _Search(runner, cases, rigid, stiffness, tuned, evaluated, criterion)
                     if key == "hybrid_gain":
                         value, cost, alpha = min(
-                            (*search.best(key, controller, alpha, getattr(o, field)), alpha) for alpha in o.hybrid_alpha
+                            (*search.best(key, controller, alpha, search_range(o, span)), alpha)
+                            for alpha in o.hybrid_alpha
                         )
                         tuned["hybrid_alpha"] = out[("hybrid_alpha", criterion, stiffness)] = alpha
                     else:
-                        value, cost = search.best(key, controller, None, getattr(o, field))
+                        value, cost = search.best(key, controller, None, search_range(o, span))
                     tuned[key] = out[(key, criterion, stiffness)] = value
                     out[(f"{key}_cost", criterion, stiffness)] = cost
     return _tuned_dataset(out, options, list(inputs))
