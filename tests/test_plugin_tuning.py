@@ -18,25 +18,27 @@ BENCH = CONFIG.benchmark
 OWN_RANGE = (0.5, 3.0)  # N s m-1, a plug-in's own range, narrower than the quick config's damping_range (0.1, 200)
 
 
-@pytest.fixture(params=["damping_range", "own"])
+@pytest.fixture
 def my_passive(request):
     """The plug-in "my_passive" (C = ctx.tuned["my_passive_damping"]) registered for one test, then removed; searched
-    in benchmark.tuning.damping_range by name, or in its own OWN_RANGE. Yields the range it is searched in."""
+    in benchmark.tuning.damping_range by name (the default), or in its own OWN_RANGE (indirect parameter "own").
+    Yields the range it is searched in."""
     saved = dict(tuning.TUNED), dict(tuning._UNITS), set(tuning.TUNED_CONTROLLERS)
 
     @strategies.register("my_passive")
     def factory(ctx):
         return strategies.Strategy("my_passive", "isolated", laws.Constant(float(ctx.tuned["my_passive_damping"])))
 
-    search = "damping_range" if request.param == "damping_range" else OWN_RANGE
-    tuning.register_tuned("my_passive_damping", "my_passive", search, "N s m-1")
-    yield BENCH.tuning.damping_range if request.param == "damping_range" else OWN_RANGE
+    own = getattr(request, "param", "damping_range") == "own"
+    tuning.register_tuned("my_passive_damping", "my_passive", OWN_RANGE if own else "damping_range", "N s m-1")
+    yield OWN_RANGE if own else BENCH.tuning.damping_range
     strategies.REGISTRY.pop("my_passive")
     for table, old in zip((tuning.TUNED, tuning._UNITS, tuning.TUNED_CONTROLLERS), saved, strict=True):
         table.clear()
         table.update(old)
 
 
+@pytest.mark.parametrize("my_passive", ["damping_range", "own"], indirect=True)
 def test_the_plugin_parameter_is_tuned_like_the_built_in_one(my_passive):
     """Tuned with the config's ranges, the plug-in lands where passive_tuned lands when its own damping_range is set to
     the plug-in's range: the same search in the same range, run apart."""
@@ -70,9 +72,8 @@ def test_the_plugin_law_runs_once_per_tuning_criterion(my_passive):
 
 def test_the_budget_counts_the_plugin_search(my_passive):
     """One more parameter adds tuning scenarios x K x criteria x (n_candidates + max_refine) runs (budget docstring)."""
-    config = typed_config("quick.yaml")
-    base = replace(config, benchmark=replace(config.benchmark, controllers=("rigid", "passive_tuned")))
-    more = replace(config, benchmark=replace(config.benchmark, controllers=("rigid", "passive_tuned", "my_passive")))
+    base = replace(CONFIG, benchmark=replace(BENCH, controllers=("rigid", "passive_tuned")))
+    more = replace(CONFIG, benchmark=replace(BENCH, controllers=("rigid", "passive_tuned", "my_passive")))
     names = sorted(scenarios.scenario_specs(BENCH))
     n_tuning = sum(
         role == "tuning" for role in scenarios.split(names, BENCH.split.tuning_fraction, BENCH.split.seed).values()
