@@ -1,0 +1,202 @@
+"""The stabilised gimbal on a moving base in the time domain: continuous axes, sampled IMU, discrete cascade.
+
+Each stabilised axis is the continuous model of `uavdamp.platform.gimbal` (camera, friction, cable, imbalance,
+the IMU's filters), exact between samples for base inputs piecewise linear on the input grid and a torque held
+over each loop period. The plant is linear, so its state is the sum of the response to the base (and the
+sensor noise), computed ahead on the whole grid, and the response to the torque, stepped at the loop rate with
+the controller: readings (bias, quantisation, the accelerometer's tilt by atan2), the complementary filter, the
+attitude P and the rate PI, the torque limit, one sample of computation delay. Integrator anti-windup (choice):
+the PI's integral is held while the demand saturates. Start (choice): the camera at rest on the line of sight 0,
+the integral holding the static imbalance torque, the filters at rest on the first input.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from uavdamp.platform.gimbal import (
+    AXES,
+    LATERAL,
+    OUTPUTS,
+    AxisGains,
+    GimbalParams,
+    axis_model,
+    design,
+    imbalance_torque,
+)
+from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, sample_channel
+from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
+
+
+def _grid(time: np.ndarray, period: float, series: dict[str, np.ndarray]) -> tuple[float, int]:
+    """(step h s, steps per loop period) of a uniform grid; ValueError naming the bad input."""
+    t = np.asarray(time, dtype=float)
+    if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)):
+        raise ValueError(f"time must be a finite 1-D array of >= 2 samples, got shape {t.shape}")
+    h = float(t[1] - t[0])
+    if not (h > 0 and np.ptp(np.diff(t)) <= 1e-6 * h):
+        raise ValueError("time must be strictly increasing and uniform")
+    m = round(period / h)
+    if m < 1 or abs(m * h - period) > 1e-9 * period:
+        raise ValueError(f"the loop period ({period} s) must be a whole multiple of the time step ({h} s)")
+    for name, x in series.items():
+        if np.shape(x) != (3, t.size) or not np.all(np.isfinite(x)):
+            raise ValueError(f"{name} must be a finite (3, {t.size}) array, got shape {np.shape(x)}")
+    return h, m
+
+
+def _exogenous(p: GimbalParams, axis: str, rotation, rate, acceleration) -> np.ndarray:
+    """The axis's base inputs (4, n): base angle, base rate, imbalance torque (static gravity part included),
+    lateral specific force."""
+    i = AXES.index(axis)
+    force = acceleration + np.array([0.0, 0.0, p.gravity])[:, None]  # specific force a - g, g along -z
+    lateral = acceleration[LATERAL[axis]] if LATERAL[axis] is not None else np.zeros(rate.shape[1])
+    return np.stack([rotation[i], rate[i], imbalance_torque(p, axis, force), lateral])
+
+
+def _base_response(p, imu: ImuParams, axis: str, e: np.ndarray, h: float, rng) -> tuple[np.ndarray, object]:
+    """States (n, ns) of the axis driven by the base inputs e (4, n) and the sensors' noise, torque off."""
+    model = axis_model(p, axis)
+    ns = model.a.shape[0]
+    b = model.b[:, 1:]
+    plant = StateSpace(model.a, np.hstack([b, np.zeros_like(b)]), model.c, np.zeros((4, 4)), np.zeros((4, 4)))
+    step = discretise(plant, h)
+    forcing_u, slopes = e[:, :-1].T, np.diff(e, axis=1).T / h
+    z0 = np.zeros(ns)
+    af, bf, _ = lowpass(imu)
+    nf = af.shape[0]
+    if axis != "yaw":  # the accelerometer filter at rest on the first lateral reading
+        z0[2 + nf :] = -np.linalg.solve(af, bf[:, 0]) * e[3, 0]
+    noise = np.zeros((e.shape[1] - 1, ns))
+    for start, density in ((2, imu.gyro_noise_density), (2 + nf, imu.accel_noise_density)):
+        if density > 0 and start + nf <= ns:
+            chol = np.linalg.cholesky(noise_covariance(af, bf, density, h))
+            noise[:, start : start + nf] = rng.standard_normal((noise.shape[0], nf)) @ chol.T
+    # the noise enters as extra forcing: a third input block with unit gain on the noisy states
+    step = Discrete(step.phi, np.hstack([step.gamma_u, np.eye(ns)]), np.hstack([step.gamma_v, np.zeros((ns, ns))]))
+    u = np.hstack([forcing_u, noise])
+    v = np.hstack([slopes, np.zeros_like(noise)])
+    return propagate(step, z0, u, v, lift(step.phi)), model
+
+
+def _torque_steps(model, h: float, period: float) -> tuple[Discrete, Discrete]:
+    """Torque (held) step maps over one grid step h and one loop period."""
+    b = model.b[:, :1]
+    plant = StateSpace(model.a, np.hstack([b, np.zeros_like(b)]), model.c, np.zeros((4, 1)), np.zeros((4, 1)))
+    return discretise(plant, h), discretise(plant, period)
+
+
+def simulate(
+    p: GimbalParams,
+    time,
+    rotation,
+    rate,
+    acceleration,
+    *,
+    gains: dict[str, AxisGains] | None = None,
+    sensor_errors: bool = True,
+    rng: np.random.Generator | None = None,
+) -> xr.Dataset:
+    """Run the stabilised axes of `p` on a base moving with `rotation` (3, n) rad (rotation vector), `rate` (3, n)
+    rad s-1 and linear `acceleration` (3, n) m s-2, inertial frame (x forward, y left, z up), on the uniform grid
+    `time` (s; the loop period a whole multiple of its step). gains: default `design(p)`; sensor_errors False:
+    the IMU without noise, bias and quantisation; rng: the noise's generator (default seed 0)."""
+    rotation, rate, acceleration = (np.asarray(x, dtype=float) for x in (rotation, rate, acceleration))
+    h, m = _grid(time, p.period, {"rotation": rotation, "rate": rate, "acceleration": acceleration})
+    gains = design(p) if gains is None else gains
+    imu = p.imu if sensor_errors else p.imu.noiseless()
+    rng = np.random.default_rng(0) if rng is None else rng
+    n, axes = np.size(time), p.stabilised
+    loops = np.arange(0, n, m)
+    f_z = sample_channel(time, p.gravity + acceleration[2], imu, imu.accel_noise_density, rng)[loops]
+    f_z = read(f_z, imu.accel_bias[2], imu.accel_step, imu.accel_range)
+    base, steps, e0 = {}, {}, {}
+    for axis in axes:
+        e = _exogenous(p, axis, rotation, rate, acceleration)
+        base[axis], model = _base_response(p, imu, axis, e, h, rng)
+        steps[axis] = (model, *_torque_steps(model, h, p.period))
+        e0[axis] = e[2, 0]
+    out = {k: np.zeros((len(axes), n)) for k in ("line_of_sight", "motor_torque", "attitude_estimate", "saturated")}
+    for j, axis in enumerate(axes):
+        model, fine, coarse = steps[axis]
+        held, flags, estimate = _control(p, imu, gains[axis], model, coarse, base[axis][loops], f_z, -e0[axis])
+        torque = np.repeat(held, m)[:n]
+        z = propagate(fine, np.zeros(model.a.shape[0]), torque[:-1, None], np.zeros((n - 1, 1)), lift(fine.phi))
+        out["line_of_sight"][j] = (base[axis] + z) @ model.c[OUTPUTS.index("angle")]
+        out["motor_torque"][j] = torque
+        out["saturated"][j] = np.repeat(flags, m)[:n]
+        out["attitude_estimate"][j] = np.repeat(estimate, m)[:n]
+    return _dataset(p, np.asarray(time, dtype=float), axes, out, m)
+
+
+def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarray, f_z: np.ndarray, hold: float):
+    """The discrete cascade on one axis: (torque applied over each loop period, its saturation flag, estimate)."""
+    axis, k_count = g.axis, base_loop.shape[0]
+    i = AXES.index(axis)
+    c_gyro, c_force = model.c[OUTPUTS.index("gyro")], model.c[OUTPUTS.index("specific_force")]
+    limit, period = p.torque_limit, p.period
+    held, flags, est_out = np.empty(k_count), np.zeros(k_count, dtype=bool), np.empty(k_count)
+    z, integral, estimate, applied = np.zeros(model.a.shape[0]), hold, 0.0, hold
+    lateral = LATERAL[axis]
+    for k in range(k_count):
+        held[k] = applied
+        state = base_loop[k] + z
+        gyro = read(state @ c_gyro, imu.gyro_bias[i], imu.gyro_step, imu.gyro_range)
+        if axis == "yaw":
+            tilt = 0.0
+        else:
+            f_lat = read(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
+            tilt = math.atan2(f_lat, f_z[k]) if axis == "roll" else math.atan2(-f_lat, f_z[k])
+        estimate = g.estimator.update(estimate, float(gyro), tilt)
+        error = -g.ka * estimate - float(gyro)
+        candidate = integral + g.ki * period * error
+        demand = g.kp * error + candidate
+        saturated = abs(demand) > limit
+        if not saturated:
+            integral = candidate
+        applied = min(max(demand, -limit), limit)  # from the next sample on (computation delay)
+        flags[k] = saturated
+        est_out[k] = estimate
+        z = coarse.phi @ z + coarse.gamma_u[:, 0] * held[k]
+    # the flag belongs to the period its torque acts in: the demand computed at k acts over period k + 1
+    return held, np.concatenate([[False], flags[:-1]]), est_out
+
+
+_VARIABLES = {
+    "line_of_sight": ("rad", "camera's inertial attitude about the axis (line of sight)"),
+    "motor_torque": ("N m", "motor torque applied (zero-order hold over the loop period)"),
+    "attitude_estimate": ("rad", "complementary filter's attitude estimate (held over the loop period)"),
+    "torque_saturated": ("1", "1 where the applied torque is the clipped demand (the torque limit acts)"),
+}
+
+
+def _dataset(p: GimbalParams, time: np.ndarray, axes, out: dict, m: int) -> xr.Dataset:
+    flags = out.pop("saturated").astype(bool)
+    data = {
+        k: (("axis", "time"), v, dict(zip(("units", "long_name"), _VARIABLES[k], strict=True))) for k, v in out.items()
+    }
+    data["torque_saturated"] = (
+        ("axis", "time"),
+        flags.astype(np.int8),
+        {"units": "1", "long_name": _VARIABLES["torque_saturated"][1]},
+    )
+    data["saturation_count"] = (
+        ("axis",),
+        flags[:, ::m].sum(axis=1),
+        {"units": "1", "long_name": "loop samples whose torque was clipped to the limit"},
+    )
+    coords = {
+        "time": ("time", time, {"units": "s", "long_name": "time"}),
+        "axis": ("axis", list(axes), {"units": "1", "long_name": "stabilised axis (roll x, pitch y, yaw z)"}),
+    }
+    attrs = {
+        "title": "Gyro-stabilised gimbal on a moving base",
+        "loop_rate_hz": p.loop_rate_hz,
+        "torque_limit_N_m": p.torque_limit,
+        "saturated": int(flags.any()),
+        "frame": "inertial: x forward, y left, z up",
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
