@@ -19,7 +19,7 @@ import yaml
 
 os.environ.setdefault("EXUDYN_MODULE", "fast")  # as the pipeline's jobs (workflow/Snakefile)
 
-from uavdamp.config import load  # noqa: E402
+from uavdamp.config.load import load  # noqa: E402
 from uavdamp.reference_table import GridSpec, chunks, grid, verify  # noqa: E402
 from uavdamp.reference_table import criteria as criterion  # noqa: E402
 

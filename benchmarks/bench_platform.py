@@ -10,10 +10,10 @@ import time
 
 import yaml
 
-from uavdamp.excitation import sine_input
-from uavdamp.laws import Constant, Schedule
+from uavdamp.damping.laws import Constant, Schedule
 from uavdamp.platform import ExudynPlant, PlatformParams
 from uavdamp.settings import parse, view
+from uavdamp.sources.excitation import sine_input
 
 DURATION = 5.0  # s, run length
 FREQ_Y_HZ, FREQ_Z_HZ = 7.0, 8.0  # near the paper's fuselage Y (44.04 rad/s) and Z (50.58 rad/s) peaks

@@ -3,6 +3,7 @@
 Slow (tens of minutes on 2 cores), so not part of CI. From the repository root:
 
     .venv/bin/python benchmarks/mutation.py run        # fresh run: deletes mutants/, mutates, tests
+    .venv/bin/python benchmarks/mutation.py run --only "uavdamp.study.metrics.*"   # the same for one module's mutants
     .venv/bin/python benchmarks/mutation.py retest     # retest the surviving mutants only (after adding tests)
     .venv/bin/python benchmarks/mutation.py report     # docs/mutation.md's table from mutants/*.meta
 
@@ -10,12 +11,15 @@ The modules and the test selection are pyproject.toml's [tool.mutmut] table. mut
 function to the tests that call it and runs only those for its mutants. Mutants judged equivalent (no
 input can tell them apart) are listed, each with its reason, in tests/mutation_equivalent.txt; the report
 counts them apart and gives the kill rate over the others. Run without PYTHONPATH: mutmut puts its mutated
-copy of src/ first on sys.path itself.
+copy of src/ first on sys.path itself. The selection holds no test that starts Snakemake: pyproject's
+`-m "not slow"` leaves out every pipeline test (tests/conftest.py marks them), so the mutants' copy needs only
+src/ and what the unit tests read (`also_copy`).
 """
 
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import json
 import os
 import shutil
@@ -71,8 +75,11 @@ def module_of(name: str) -> str:
     return name.split(".x\u01c1")[0].split(".x_")[0]
 
 
-def report(wall_s: float | None) -> str:
+def report(wall_s: float | None, only: str | None = None) -> str:
+    """The table over every mutant, or over those whose name matches the pattern `only` (fnmatch)."""
     res, equiv = results(), equivalent()
+    if only:
+        res = {name: code for name, code in res.items() if fnmatch.fnmatch(name, only)}
     table: dict[str, Counter] = {}
     surviving = []
     for name, code in res.items():
@@ -115,21 +122,27 @@ def main() -> None:
     parser.add_argument("command", choices=["run", "retest", "report"])
     parser.add_argument("--max-children", type=int, default=2, help="parallel test workers (default 2)")
     parser.add_argument("--output", type=Path, default=None, help="write the table here (default: print it)")
+    parser.add_argument(
+        "--only", default=None, help='mutant names to run and report (fnmatch: "uavdamp.study.metrics.*")'
+    )
     args = parser.parse_args()
     start = time.monotonic()
     wall = None
     if args.command == "run":
         shutil.rmtree(ROOT / "mutants", ignore_errors=True)
-        subprocess.run([MUTMUT, "run", "--max-children", str(args.max_children)], cwd=ROOT, env=_env(), check=False)
+        names = [args.only] if args.only else []
+        command = [MUTMUT, "run", "--max-children", str(args.max_children), *names]
+        subprocess.run(command, cwd=ROOT, env=_env(), check=False)
         wall = time.monotonic() - start
     elif args.command == "retest":
         names = [n for n, code in results().items() if code in (0, 33) and n not in equivalent()]
+        names = [n for n in names if not args.only or fnmatch.fnmatch(n, args.only)]
         if names:
             subprocess.run(
                 [MUTMUT, "run", "--max-children", str(args.max_children), *names], cwd=ROOT, env=_env(), check=False
             )
         wall = time.monotonic() - start
-    text = report(wall)
+    text = report(wall, args.only)
     if args.output:
         args.output.write_text(text)
     print(text)

@@ -18,8 +18,8 @@ from __future__ import annotations
 import functools
 import math
 
-from uavdamp import tracking
-from uavdamp.strategies import Context, Strategy, register
+from uavdamp.signals import tracking
+from uavdamp.study.strategies import Context, Strategy, register
 
 
 class FrequencyRatio:

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import copy
+import io
 import os
 import shutil
 import subprocess
@@ -14,7 +16,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from uavdamp.config import Config, load
+from uavdamp.config.load import Config, load
 from uavdamp.contract import Observation
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import criteria
@@ -110,10 +112,11 @@ def apt_install(packages: list[str], log=print) -> str | None:
 
 
 def copy_workflow(dest: Path) -> Path:
-    """Copy what Snakemake needs (workflow/, config/) into `dest`; return it."""
+    """Copy what Snakemake needs (the top-level Snakefile, workflow/, config/, data/) into `dest`; return it."""
     dest.mkdir(parents=True, exist_ok=True)
     for folder in ("workflow", "config", "data"):
         shutil.copytree(ROOT / folder, dest / folder, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy2(ROOT / "Snakefile", dest / "Snakefile")
     return dest
 
 
@@ -128,6 +131,50 @@ def snakemake(workdir: Path, *args: str, timeout: float = 1800) -> subprocess.Co
         timeout=timeout,
         env=env,
     )
+
+
+@contextlib.contextmanager
+def _process_state_kept(workdir: Path, argv: list[str]):
+    """Run a block as if it were `argv` in `workdir`, then restore what a Snakefile's parse changes in-process: the
+    working directory, sys.argv, sys.path, the environment (EXUDYN_MODULE), the imported modules and the
+    registries a plug-in file adds its law to."""
+    from uavdamp import plugins
+    from uavdamp.study import metrics, strategies
+
+    registries = [strategies.REGISTRY, metrics.REGISTRY, plugins._LOADED]
+    saved = (os.getcwd(), sys.argv[:], sys.path[:], dict(os.environ), set(sys.modules), [dict(r) for r in registries])
+    try:
+        os.chdir(workdir)
+        sys.argv = argv
+        yield
+    finally:
+        cwd, sys.argv, sys.path[:], environ, modules, contents = saved
+        os.chdir(cwd)
+        os.environ.clear()
+        os.environ.update(environ)
+        for name in set(sys.modules) - modules:
+            del sys.modules[name]
+        for registry, content in zip(registries, contents, strict=True):
+            registry.clear()
+            registry.update(content)
+
+
+def snakemake_dry(workdir: Path, *args: str) -> subprocess.CompletedProcess:
+    """`snakemake -n ARGS` in `workdir` inside this process (Snakemake's own command line, `snakemake.cli.main`):
+    the same plan, refusal and output as `snakemake`, without the ~5 s CPU of a new interpreter importing
+    Snakemake, Exudyn and xarray. For dry runs, refusals and --lint only: a run that executes jobs goes through
+    `snakemake`."""
+    from snakemake import cli
+
+    assert "-n" in args or "--lint" in args, "in-process Snakemake is for dry runs (-n) and --lint only"
+    out, err, code = io.StringIO(), io.StringIO(), 0
+    with _process_state_kept(workdir, ["snakemake", *args]):
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                cli.main(list(args))
+            except SystemExit as exit_:
+                code = exit_.code if isinstance(exit_.code, int) else 1
+    return subprocess.CompletedProcess(["snakemake", *args], code, out.getvalue(), err.getvalue())
 
 
 def planned_rules(result: subprocess.CompletedProcess) -> set[str]:
@@ -167,6 +214,17 @@ def with_plugin(workdir: Path) -> Path:
     shutil.copy(ROOT / "examples" / "my_laws.py", workdir / PLUGIN_FILE)
     (workdir / "config" / "plugin.yaml").write_text(yaml.safe_dump(plugin_override()))
     return workdir
+
+
+# fixtures that run the pipeline end to end: every test that depends on one (directly or through another fixture)
+# is marked `slow` (`pytest -m "not slow"` leaves them out; plain `pytest` runs them)
+PIPELINE_FIXTURES = {"quick_run", "multirotor_run"}
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if PIPELINE_FIXTURES & set(getattr(item, "fixturenames", ())):
+            item.add_marker(pytest.mark.slow)
 
 
 @pytest.fixture(scope="session")
@@ -210,7 +268,7 @@ def helicopter_of(section: dict):
 
 def camera_of(section: dict):
     """The camera section, typed."""
-    from uavdamp.camera import CameraModel
+    from uavdamp.camera.optics import CameraModel
 
     return parse(CameraModel, section, "camera")
 
@@ -221,7 +279,7 @@ def study_options_of(section: dict):
     from dataclasses import replace
 
     from uavdamp.settings import keys, view
-    from uavdamp.study import StudyOptions
+    from uavdamp.study.comparison import StudyOptions
 
     options = parse(StudyOptions, view(section, StudyOptions), "study")
     section_only = {"camera", "cases", "duration_s", "highpass_hz", "figures", "allow_extrapolation"}
@@ -277,7 +335,7 @@ def displacement_grid(values: np.ndarray) -> xr.Dataset:
 def excitation_options(cases: dict, *, duration: float, highpass_hz: float, band_hz: tuple[float, float]):
     """The excitation stage's options: `cases` (config mappings) over `duration` s, high-passed, the dominant line
     read in `band_hz` (the tracker's band; the rest of the tracker as in config/config.yaml)."""
-    from uavdamp.excitation import ExcitationOptions
+    from uavdamp.sources.excitation import ExcitationOptions
 
     tracking = {**load_config()["study"]["tracking"], "min_freq_hz": band_hz[0], "max_freq_hz": band_hz[1]}
     section = {"cases": cases, "duration_s": duration, "highpass_hz": highpass_hz, "tracking": tracking}
@@ -316,15 +374,16 @@ def anfis_options(options: dict | None = None, **changes):
 
 
 def sine_yz(freq_y_hz: float, freq_z_hz: float, amplitude: float, duration: float, time_step: float):
-    """(time s, y m, z m) of `uavdamp.excitation.sine_input`'s planar mount motion."""
-    from uavdamp.excitation import sine_input
+    """(time s, y m, z m) of `uavdamp.sources.excitation.sine_input`'s planar mount motion."""
+    from uavdamp.sources.excitation import sine_input
 
     time, mount = sine_input(freq_y_hz, freq_z_hz, amplitude, duration, time_step)
     return time, mount.y, mount.z
 
 
 def planar_cases(name: str, time, y, z):
-    """A one-case input dataset in the shape of `uavdamp.excitation.cases_dataset`: y, z translation (m), no x and
+    """A one-case input dataset in the shape of `uavdamp.sources.excitation.cases_dataset`: y, z translation (m), no x
+    and
     no rotation."""
     translation = np.stack([np.zeros_like(y), y, z])
     attrs = {"frame": "inertial"}

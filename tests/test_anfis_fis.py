@@ -417,3 +417,72 @@ def test_models_the_file_cannot_hold_are_refused():
     tm = fitted({"init": "grid", "n_mfs": 2}, epochs=2)
     with pytest.raises(ValueError, match="input 3 is named 'log10_K'.*export the DampingModel"):
         to_fis(tm.anfis)
+
+
+# ---------------------------------------------------------------------------------------------
+# Edits that change what the file means: refused naming the file, the line and the rule
+
+
+@pytest.mark.parametrize(
+    "old, new, section",
+    [
+        ("Name='log10_K_N_m'", "Name='K_N_m'", "Input3"),  # K read as N/m, not log10: a 10-1000 times larger input
+        ("Name='log10_C_N_s_m'", "Name='C_N_s_m'", "Output1"),  # the output read as C, not log10 C
+        ("Name='f_y_Hz'", "Name='f_y_kHz'", "Input1"),  # another unit than the names comment's
+    ],
+)
+def test_a_name_outside_the_documented_transforms_is_refused_naming_file_and_line(
+    grid_text, tmp_path, old, new, section
+):
+    """Seen failing on the previous main: the edited file was read (the log10 transform silently dropped, f_y's
+    unit changed) and predicted other values with no message."""
+    from uavdamp.anfis.fis import read_fis
+
+    path = tmp_path / "model.fis"
+    path.write_text(grid_text.replace(old, new, 1))
+    number = line_of(path.read_text(), new)
+    with pytest.raises(ValueError, match=rf"^{path}: \[{section}\] line {number}: {new} does not match"):
+        read_fis(path)
+    no_names = "\n".join(line for line in grid_text.splitlines() if not line.startswith("% uavdamp-names"))
+    cut = no_names.replace("Name='log10_K_N_m'", "Name='log10_K'", 1)  # the log10 name without its unit
+    cut_line = line_of(cut, "Name='log10_K'")
+    with pytest.raises(ValueError, match=rf"\[Input3\] line {cut_line}: Name='log10_K' is log"):
+        from_fis(cut)
+
+
+def test_a_duplicated_key_is_refused_naming_both_lines(grid_text, tmp_path):
+    """Seen failing on the previous main: the second Range= of [Input1] silently replaced the first."""
+    from uavdamp.anfis.fis import read_fis
+
+    first = line_of(grid_text, "Range=")
+    lines = grid_text.splitlines()
+    lines.insert(first, "Range=[0.0 100.0]")  # right after the first
+    path = tmp_path / "model.fis"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(
+        ValueError, match=rf"^{path}: \[Input1\] line {first + 1}: Range appears twice \(first at line "
+    ):
+        read_fis(path)
+    tagged = grid_text.replace("\n[System]", f"\n{next(s for s in lines if s.startswith('% uavdamp-names'))}\n[System]")
+    with pytest.raises(ValueError, match="a second % uavdamp-names: line"):
+        from_fis(tagged)
+
+
+def test_a_consequent_predicting_a_non_finite_value_is_refused_naming_the_rule(grid_text, tmp_path):
+    """Seen failing on the previous main: a constant term of 1e300 was read, and the model predicted C = inf
+    (10**1e300)."""
+    from uavdamp.anfis.fis import read_fis
+
+    sections = parse_fis(grid_text)
+    mf3 = sections["Output1"]["MF3"]
+    params = numbers(mf3.split(",", 1)[1])
+    edited = mf3.split(",", 1)[0] + ",[" + " ".join(repr(v) for v in [*params[:-1], 1e300]) + "]"
+    text = grid_text.replace("MF3=" + mf3, "MF3=" + edited, 1)
+    top = np.max(plain_sugeno(text, learnt(inside(50, 3))))  # the file's own log10 C, by the plain evaluator
+    assert top > np.log10(np.finfo(float).max)  # 10**top overflows: C = inf
+    rules = [n for n, line in enumerate(text.splitlines(), 1) if line.strip().endswith(", 3 (1) : 1")]
+    path = tmp_path / "model.fis"
+    path.write_text(text)
+    rule = f"MF3 of rule 3 \\(\\[Rules\\] line {rules[0]}\\) gives a non-finite prediction"
+    with pytest.raises(ValueError, match=rf"^{path}: \[Output1\] line {line_of(text, 'MF3=' + edited)}: {rule}"):
+        read_fis(path)

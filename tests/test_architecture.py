@@ -85,3 +85,44 @@ def test_the_packages_import_without_circles():
 
     for node in sorted(graph):
         visit(node, [])
+
+
+# third-party modules a function may import where it is used: heavy readers of one file format and the plotting
+# backend, so that `import uavdamp` and the numeric modules stay cheap (tests/test_flight_log.py checks the first)
+LAZY_THIRD_PARTY = {"pyulog", "pymavlink", "matplotlib"}
+
+
+def _function_imports(path):
+    tree = ast.parse(path.read_text())
+    for function in (n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
+        for node in ast.walk(function):
+            if isinstance(node, ast.Import):
+                yield node.lineno, function.name, [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                yield node.lineno, function.name, [node.module or ""]
+
+
+def test_no_import_hides_inside_a_function():
+    """Every arrow of the import graph is at a module's top: a function imports only a heavy third-party reader
+    (`LAZY_THIRD_PARTY`), and the package face `uavdamp.__getattr__` its lazy `read_flight_log` (the flight-log
+    readers stay out of `import uavdamp`)."""
+    found = []
+    for path in sorted(SRC.rglob("*.py")):
+        for line, function, modules in _function_imports(path):
+            if path == SRC / "__init__.py" and function == "__getattr__":
+                continue
+            hidden = [m for m in modules if m.split(".")[0] not in LAZY_THIRD_PARTY]
+            found += [f"{path.relative_to(SRC)}:{line}: {function}: import {m}" for m in hidden]
+    assert found == [], "move these imports to the module's top"
+
+
+def test_the_plant_does_not_import_the_sources():
+    """The plant sits below the vibration sources: `uavdamp.platform` imports neither `uavdamp.sources` nor
+    `uavdamp.sources.flight_log` (the mount motion's resampler lives beside its type in `uavdamp.contract`)."""
+    found = [
+        f"{path.relative_to(SRC)}: {module}"
+        for path in sorted((SRC / "platform").rglob("*.py"))
+        for module in _imports(path)
+        if module.startswith(("uavdamp.sources", "uavdamp.sources.flight_log", "uavdamp.study", "uavdamp.benchmark"))
+    ]
+    assert found == []

@@ -6,8 +6,11 @@ import numpy as np
 import pytest
 from conftest import PLUGIN_FILE, PLUGIN_LAW, QUICK_RUN_ARGS, load_config, planned_rules, quick_run_config, typed_config
 
-from uavdamp import actuation, benchmark, io, scenarios
+from uavdamp import io
 from uavdamp.anfis import DampingModel
+from uavdamp.benchmark import loop as benchmark
+from uavdamp.benchmark import scenarios
+from uavdamp.damping import actuation
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.settings import ConfigError, parse
@@ -136,13 +139,15 @@ def test_quick_benchmark(inputs, params, options, quick_run, tmp_path):
     assert set(io.open_dataset(tmp_path / "criteria.nc").set.values) == {"tuning", "evaluation"}
 
 
+@pytest.mark.slow
 def test_the_tuning_job_reads_only_tuning_scenarios(tmp_path):
     """Snakemake dry run of the quick config: benchmark_tune's inputs are exactly the tuning scenarios."""
-    from conftest import copy_workflow, snakemake
+    from conftest import copy_workflow
+    from conftest import snakemake_dry as in_process_snakemake
 
     workdir = copy_workflow(tmp_path / "wf")
-    result = snakemake(
-        workdir, "-n", "reports-quick/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml", timeout=300
+    result = in_process_snakemake(
+        workdir, "-n", "reports-quick/benchmark/tuned/K10.nc", "--configfile", "config/quick.yaml"
     )
     assert result.returncode == 0, result.stderr[-3000:]
     split = scenarios.split(scenarios.scenario_specs(BENCH), SPLIT.tuning_fraction, SPLIT.seed)
@@ -246,8 +251,10 @@ def test_a_lagged_schedule_is_converged_in_the_step(inputs, params, options):
     schedule switching every 0.5 s moves the camera alike at 2 and 0.5 ms. Holding the lag's C at each grid point
     over the step instead is first order: on the default sweep the clairvoyant's schedule at K = 10 N/m gave
     J 0.0505, 0.0495, 0.0490, 0.0487 at 2, 1, 0.5, 0.25 ms against 0.048481-0.048482 here (measured)."""
-    from uavdamp import laws, scoring, strategies
-    from uavdamp.tuning import Runner, case_of
+    from uavdamp.benchmark import scoring
+    from uavdamp.benchmark.runner import Runner, case_of
+    from uavdamp.damping import laws
+    from uavdamp.study import strategies
 
     values = [50.0, 0.5, 20.0, 1.0, 80.0, 2.0, 5.0, 0.1]  # N s/m, one per 0.5 s
     found = []
@@ -259,3 +266,34 @@ def test_a_lagged_schedule_is_converged_in_the_step(inputs, params, options):
         rigid = scoring.response_metrics(runner.rigid.run(*case), options.camera, 1)
         found.append(scoring.criteria(runner.run(ctx, strategy, "lagged"), rigid, options.camera, 1)[0])
     assert found[0]["displacement_std"] == pytest.approx(found[1]["displacement_std"], rel=2e-3)
+
+
+def test_a_non_finite_demand_names_the_controller_the_scenario_and_k(inputs, params, options):
+    """A controller whose law returns NaN: the benchmark's error names it, the scenario, K and the damper.
+
+    seen failing on the previous main: "damping: the law returned the non-finite value nan at t = 0.0 s" only."""
+    import math
+
+    import xarray as xr
+
+    from uavdamp.study import strategies
+
+    class NaNLaw:
+        name, update_period = "nan_law", None
+
+        def reset(self):
+            pass
+
+        def __call__(self, observation):
+            return math.nan
+
+    name = "nan_controller_test"
+    if name not in strategies.REGISTRY:
+        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", NaNLaw()))
+    opts = replace(options, controllers=(name,), stiffness=(10.0,), dampers=("ideal",), frame_phases=1)
+    tuned = xr.Dataset(coords={"tuned_for": list(opts.tuning.criteria), "stiffness": [10.0]})
+    with pytest.raises(ValueError) as error:
+        benchmark.run_scenario(inputs["sweep"], tuned, params, opts)
+    text = str(error.value)
+    for part in (f"benchmark.controllers {name!r}", "scenario sweep", "K = 10 N m-1", "damper ideal", "'nan_law'"):
+        assert part in text, text

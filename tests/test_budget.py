@@ -8,9 +8,9 @@ import itertools
 import pytest
 from conftest import deep_update, load_config
 
-from uavdamp import budget
-from uavdamp.config import load
-from uavdamp.scenarios import scenario_specs, split
+from uavdamp.benchmark.scenarios import scenario_specs, split
+from uavdamp.config import budget
+from uavdamp.config.load import load
 
 # the controllers the benchmark tunes (docs/benchmark: one parameter each; hybrid's gain once per hybrid_alpha)
 TUNED = ("passive_tuned", "skyhook_on_off", "skyhook_clipped", "groundhook", "hybrid", "clipped_optimal")

@@ -10,7 +10,7 @@ import pytest
 import yaml
 from scipy.spatial.transform import Rotation
 
-from uavdamp.camera import CameraModel, image_displacement_px
+from uavdamp.camera.optics import CameraModel, image_displacement_px
 from uavdamp.settings import parse
 
 

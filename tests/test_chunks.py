@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 from conftest import snakemake
 
-from uavdamp import io
+from uavdamp import integrity, io
 from uavdamp.reference_table import GridSpec, ReferenceGrid, chunks, grid
 from uavdamp.settings import parse, view
 
@@ -189,9 +189,9 @@ def test_gather_refuses_a_damaged_chunk_in_the_pipeline(quick_run, tmp_path):
     ds = io.open_dataset(bad)
     name = next(v for v in ds.data_vars if v.startswith("criterion"))
     ds[name].values[..., 0] = 0.0
-    io.write_netcdf(
-        ds.drop_attrs(deep=False), bad, json.loads(ds.attrs["config_reference_table"]), section="reference_table"
-    )
+    stamp = {k: ds.attrs[k] for k in (integrity.DIGEST_ATTR, integrity.RULE_ATTR, integrity.RUN_ATTR)}
+    damaged = ds.drop_attrs(deep=False).assign_attrs(stamp)  # the chunk's job stamp kept: only its numbers are bad
+    io.write_netcdf(damaged, bad, json.loads(ds.attrs["config_reference_table"]), section="reference_table")
     (work / "reports-quick/reference_table/grid.nc").unlink()
     result = snakemake(
         work, "-j1", "reports-quick/reference_table/grid.nc", "--configfile", "config/quick.yaml", timeout=600

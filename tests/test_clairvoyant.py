@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from conftest import load_config, platform_from, sine_yz
 
-from uavdamp import clairvoyant, laws
 from uavdamp.contract import MountMotion
-from uavdamp.laws import Constant
+from uavdamp.damping import clairvoyant, laws
+from uavdamp.damping.laws import Constant
 from uavdamp.platform.linear_plant import LinearPlant
 
 

@@ -1,5 +1,6 @@
 """The one config layer: every shipped config loads typed, every key is documented, and a bad config is refused
-naming the key and the rule it breaks (`uavdamp.checks.validate`: typed load, schema ranges, cross-section checks).
+naming the key and the rule it breaks (`uavdamp.config.checks.validate`: typed load, schema ranges, cross-section
+checks).
 
 Each case edits config/quick.yaml's merged config; tests/workflow/test_config_checks.py runs the same refusals
 through Snakemake and checks that no job starts.
@@ -16,8 +17,9 @@ import pytest
 import yaml
 from conftest import ROOT, deep_update, load_config
 
-from uavdamp import checks, config_docs
-from uavdamp.config import Config, load
+from uavdamp.config import checks
+from uavdamp.config import docs as config_docs
+from uavdamp.config.load import Config, load
 from uavdamp.settings import RENAMED, ConfigError, key_of
 
 # (override merged over quick.yaml, text the error must contain)
@@ -132,7 +134,7 @@ BAD = {
     ),
     "study.cases-two-sources": (
         {"study": {"cases": {"case1": {"flight_log": "quadrotor"}}}},
-        "study.cases.case1: needs exactly one source: run (a helicopter run) or flight_log",
+        "study.cases.case1: needs exactly one source: run (a helicopter run), flight_log or source",
     ),
     "study.cases-unknown-log": (
         {"study": {"cases": {"case1": {"run": None, "mount": None, "flight_log": "octocopter"}}}},
@@ -176,7 +178,7 @@ BAD = {
     ),
     "helicopter.flight": (
         {"helicopter": {"flight": {"forward_advance_ratio": 0.6}}},
-        "helicopter.flight.forward_advance_ratio: must lie in (0, 0.4]",
+        "helicopter.flight.forward_advance_ratio: must lie in (0, 0.25]",
     ),
     "helicopter.flight.trim": (
         {"helicopter": {"flight": {"trim": {"max_iterations": 0}}}},
@@ -295,7 +297,7 @@ def _schema() -> dict:
 
 def test_the_config_reference_is_generated_from_the_schema_and_current():
     readme = (ROOT / "config" / "README.md").read_text()
-    assert readme == config_docs.update_readme(readme, _schema()), "run: python -m uavdamp.config_docs"
+    assert readme == config_docs.update_readme(readme, _schema()), "run: python -m uavdamp.config.docs"
 
 
 def test_every_typed_key_is_in_the_schema_and_documented_and_no_other():
@@ -334,3 +336,67 @@ def test_extrapolation_allowed_is_returned_as_the_runs_warning_and_refused_other
     refused = deep_update(kilo, {"benchmark": {"allow_extrapolation": False}})
     with pytest.raises(ConfigError, match=r"^benchmark.stiffness_n_m: \[2000.0\] .* benchmark.allow_extrapolation"):
         checks.extrapolation(load(refused))
+
+
+def test_rotor_physics_bounds_are_refused_naming_key_value_quantity_and_bound():
+    """Schema-valid values beyond the rotor's physics, refused before any job. Expected numbers from closed forms
+    computed here: tip Mach Omega R (1 + mu) / 340.3 m s-1, the hover thrust of blades stalled everywhere
+    N rho c Omega^2 a alpha_s (R^3 - r_0^3) / 6.
+
+    seen failing on the previous main: all three passed the checks (omega 500 rad/s then ended in an Exudyn
+    SolverError traceback at the flight job; mass 1e5 kg and mu 0.4 in an unconverged trim flown as if trimmed)."""
+    quick = load_config("quick.yaml")
+    main, aero = quick["helicopter"]["main_rotor"], quick["helicopter"]["aerodynamics"]
+    radius = main["hinge_offset_m"] + main["blade_length_m"]
+    mu = quick["helicopter"]["flight"]["forward_advance_ratio"]
+    mach = 500.0 * radius * (1 + mu) / 340.3
+    with pytest.raises(ConfigError) as error:
+        checks.validate(_merged({"helicopter": {"main_rotor": {"omega_rad_s": 500.0}}}))
+    text = str(error.value)
+    assert text.startswith("helicopter.main_rotor.omega_rad_s: 500 rad s-1") and "Mach" in text and "0.95" in text
+    assert f"= {mach:.3g}," in text
+
+    blade = aero["main_blade"]
+    omega = main["omega_rad_s"]
+    lift = blade["lift_slope_per_rad"] * blade["stall_angle_rad"]
+    r_0 = main["hinge_offset_m"] + blade["root_cutout_m"]
+    most = main["n_blades"] * aero["air_density_kg_m3"] * blade["chord_m"] * omega**2 * lift * (radius**3 - r_0**3) / 6
+    with pytest.raises(ConfigError) as error:
+        checks.validate(_merged({"helicopter": {"fuselage": {"mass_kg": 1.0e5}}}))
+    text = str(error.value)
+    assert text.startswith("helicopter.fuselage.mass_kg: 100000 kg") and "disc loading" in text
+    assert f"= {most:.4g} N" in text
+
+    with pytest.raises(ConfigError, match=r"^helicopter.flight.forward_advance_ratio: .* got 0.4"):
+        checks.validate(_merged({"helicopter": {"flight": {"forward_advance_ratio": 0.4}}}))
+
+
+def test_a_yaml_11_string_number_is_refused_saying_why_and_how_to_write_it():
+    """PyYAML (YAML 1.1, Snakemake's loader) reads 1.0e9 as a string; the refusal says so and gives the spelling it
+    reads as a float (checked here by loading that spelling with PyYAML).
+
+    seen failing on the previous main: "expected a finite number, got '1.0e9'" without the reason."""
+    text = "platform:\n  isolator:\n    stiffness_n_m: 1.0e9\n"
+    loaded = yaml.safe_load(text)
+    assert loaded["platform"]["isolator"]["stiffness_n_m"] == "1.0e9"  # the premise: YAML 1.1 gives a string
+    with pytest.raises(ConfigError) as error:
+        checks.validate(_merged(loaded))
+    message = str(error.value)
+    assert "YAML 1.1 reads 1.0e9 as a string" in message and "write 1.0e+9 or 1000000000.0" in message
+    assert yaml.safe_load("x: 1.0e+9")["x"] == 1.0e9 == float("1000000000.0")
+
+
+def test_the_platform_stiffness_outside_the_tables_range_gets_the_unit_hint():
+    """platform.isolator.stiffness_n_m 0.01 (10 N/m written in kN/m) is reported with the table's range and the kN
+    hint, as study.stiffness_n_m is; a value inside the range gets nothing.
+
+    seen failing on the previous main: 0.01 passed every check without a word (no stiffness_warnings)."""
+    quick = load_config("quick.yaml")
+    low, high = (
+        min(quick["reference_table"]["stiffness_n_m"]["values"]),
+        max(quick["reference_table"]["stiffness_n_m"]["values"]),
+    )
+    assert not checks.stiffness_warnings(load(quick))
+    (warning,) = checks.stiffness_warnings(load(_merged({"platform": {"isolator": {"stiffness_n_m": 0.01}}})))
+    assert warning.startswith(f"platform.isolator.stiffness_n_m: 0.01 N m-1 lies outside [{low:g}, {high:g}] N m-1")
+    assert warning.endswith("a value in kN m-1? 0.01 kN m-1 = 10 N m-1")

@@ -11,13 +11,22 @@ import xarray as xr
 import yaml
 from conftest import ANFIS_OPTIONS as OPTIONS
 from conftest import anfis_options as typed
-from conftest import camera_of, copy_workflow, displacement_grid, load_config, planned_rules, snakemake, synthetic_grid
+from conftest import (
+    camera_of,
+    copy_workflow,
+    displacement_grid,
+    load_config,
+    planned_rules,
+    snakemake,
+    snakemake_dry,
+    synthetic_grid,
+)
 
-from uavdamp import strategies
 from uavdamp.anfis import training as learning
 from uavdamp.contract import DamperBounds
 from uavdamp.reference_table import criteria as criterion
 from uavdamp.reference_table import grid, sine_batch
+from uavdamp.study import strategies
 
 CAM = camera_of(load_config()["camera"])
 F, T, D = CAM.focal_px, CAM.exposure_s, CAM.scene_distance_m
@@ -97,7 +106,7 @@ def test_chosen_criterion_reaches_the_anfis():
     """Three criteria x two windows, each with its own optimal C: the ANFIS learns the chosen one's, and its
     regret is scored on that criterion's grid slice."""
     fy, fz, k = np.linspace(3, 12, 5), np.linspace(3, 12, 4), np.geomspace(10, 1000, 3)
-    c = np.geomspace(0.1, 10, 9)
+    c = np.geomspace(0.01, 100, 17)  # log10 C* in [-0.91, 0.81]: every optimum inside the grid
     FY, FZ, K = np.meshgrid(fy, fz, k, indexing="ij")
     values = np.empty((3, 2, fy.size, fz.size, k.size, c.size))
     for i in range(3):
@@ -122,18 +131,19 @@ def test_chosen_criterion_reaches_the_anfis():
 
 
 def _planned(workdir, configfile: str) -> set[str]:
-    result = snakemake(workdir, "-n", "-j1", "all", "--configfile", configfile, timeout=300)
+    result = snakemake_dry(workdir, "-n", "-j1", "all", "--configfile", configfile)
     assert result.returncode == 0, result.stderr[-3000:]
     return planned_rules(result)
 
 
+@pytest.mark.slow
 def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_path):
     """A dry run after every output is in place (empty files, marked done with --touch): reference_table.criterion
     or .window reruns the table, the ANFIS and the study; the camera (the blur criterion) reruns the chunks too.
     (--touch records each job's params only while its outputs are missing: touch, create the files, touch.)"""
     work = copy_workflow(tmp_path)
     assert snakemake(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
-    result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    result = snakemake_dry(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml")
     outputs = [
         path.strip()
         for line in result.stdout.splitlines()
@@ -389,6 +399,13 @@ TABLE_METADATA = {  # name: (dims, units, long_name) of every variable reference
         "criterion with damping_best_constant (displacement)",
     ),
     "scheduling_gain": (("stiffness",), "1", "mean of criterion_best_constant / criterion_opt over the frequencies"),
+    "optimum_at_grid_edge": (
+        ("freq_y", "freq_z", "stiffness"),
+        "1",
+        "damping_opt on an edge of the C grid (reference_table.damping_n_s_m): 1 bottom, 2 top (a bound inside the "
+        "damper's range, not an optimum), 3 the damper's own bound, 0 interior",
+    ),
+    "grid_edge_share": ((), "1", "share of cells whose damping_opt is a grid bound"),
 }
 
 
@@ -400,7 +417,10 @@ def test_every_table_variable_carries_its_dims_units_and_long_name():
     assert set(table.data_vars) == set(TABLE_METADATA)
     for name, (dims, units, long_name) in TABLE_METADATA.items():
         assert table[name].dims == dims, name
-        assert table[name].attrs == {"units": units, "long_name": long_name}, name
+        attrs = {k: v for k, v in table[name].attrs.items() if not k.startswith("flag_")}  # CF flags: below
+        assert attrs == {"units": units, "long_name": long_name}, name
+    assert table.optimum_at_grid_edge.attrs["flag_values"].tolist() == [0, 1, 2, 3]
+    assert table.optimum_at_grid_edge.attrs["flag_meanings"] == "interior at_grid_bottom at_grid_top at_damper_bound"
     assert table.attrs == {
         "flat_tolerance": 0.05,
         "tie_rule": "smallest damping among equal minima",

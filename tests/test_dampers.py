@@ -1,4 +1,4 @@
-"""The Spencer et al. (1997) MR damper (uavdamp.dampers): against the paper's Table 1, closed forms and an
+"""The Spencer et al. (1997) MR damper (uavdamp.damping.dampers): against the paper's Table 1, closed forms and an
 independent Radau integration of the paper's equations written here (in the paper's units for its damper).
 
 No value of the paper's Fig. 3/6 loops could be reached (search: only the abstract of the preprint), so the loop
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from uavdamp.dampers import (
+from uavdamp.damping.dampers import (
     SpencerMR,
     SpencerParams,
     damping_table,
@@ -308,7 +308,7 @@ def test_the_lagged_damper_follows_a_command_step_as_one_minus_exp():
     # C' = (C_cmd - C) / tau from C = 0 with the command 1 N s/m from t = 0: C(t) = 1 - exp(-t / tau), and over a
     # step [t_k, t_k + h] on a stroke moving at 1 m/s the mean force is the mean of C, 1 - tau / h e^(-t_k / tau)
     # (1 - e^(-h / tau)) (closed forms)
-    from uavdamp.actuation import Lag
+    from uavdamp.damping.actuation import Lag
 
     tau, h = 0.02, 2e-3
     lag = Lag(tau)

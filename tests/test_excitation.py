@@ -5,7 +5,7 @@ import pytest
 import xarray as xr
 from conftest import excitation_options
 
-from uavdamp import excitation
+from uavdamp.sources import excitation
 
 DT, HIGHPASS_HZ, BAND_HZ = 0.005, 2.0, (3.0, 12.0)
 # (freq Hz, amplitude m, phase rad): Y dominated by 7.07 Hz, Z by 7.99 Hz with lines 1 Hz apart (as case 1)

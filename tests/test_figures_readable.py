@@ -81,9 +81,9 @@ def platform_runs():
     """A rigid and an isolated run of the real plant (the platform stage's own inputs, 1 s), and the modes."""
     from conftest import platform_params
 
-    from uavdamp.excitation import sine_input
-    from uavdamp.laws import Constant
+    from uavdamp.damping.laws import Constant
     from uavdamp.platform import ExudynPlant
+    from uavdamp.sources.excitation import sine_input
 
     params = platform_params()
     time, motion = sine_input(7.0, 8.0, 1.3e-3, 1.0, params.time_step)

@@ -1,5 +1,5 @@
-"""Flight logs -> mount motion (uavdamp.flight_log, uavdamp.inertial): integration of known sines, rigid-body
-lever arm, FRD -> FLU signs, the two shipped PX4 logs (expected values read with pyulog here), synthetic
+"""Flight logs -> mount motion (uavdamp.sources.flight_log, uavdamp.signals.inertial): integration of known sines,
+rigid-body lever arm, FRD -> FLU signs, the two shipped PX4 logs (expected values read with pyulog here), synthetic
 ArduPilot DataFlash files written with pymavlink's own format classes, and refusal of bad input."""
 
 from __future__ import annotations
@@ -17,13 +17,16 @@ from conftest import ROOT
 from pymavlink.DFReader import DFFormat, DFReader_binary
 from pyulog import ULog
 
-from uavdamp import flight_log, inertial, io
-from uavdamp.flight_log import FlightLogError, read_flight_log
+from uavdamp import io
+from uavdamp.signals import inertial
+from uavdamp.sources import flight_log
+from uavdamp.sources.flight_log import FlightLogError, read_flight_log
 
 LOGS = ROOT / "data" / "flight_logs"
 QUAD = LOGS / "quadrotor_fmuv5_9s.ulg"
 VTOL = LOGS / "vtol_cubeorange_hop.ulg"
 BAND = (2.0, 40.0)
+AS_IS = {"on_aliasing": "record", "on_ground": "record"}  # the shipped logs: aliased, mostly on the ground
 FS = 200.0
 G = 9.81
 
@@ -284,7 +287,7 @@ def sensor_combined(path):
 def test_quadrotor_log_rate_duration_and_topic():
     raw = sensor_combined(QUAD)
     t = raw["timestamp"] * 1e-6
-    ds = read_flight_log(QUAD, band_hz=BAND)
+    ds = read_flight_log(QUAD, band_hz=BAND, **AS_IS)
     steps = np.diff(t)
     assert ds.attrs["sample_rate_hz"] == pytest.approx(1 / np.median(steps), rel=1e-12)
     assert ds.attrs["sample_rate_hz"] == pytest.approx(200.0, rel=0.01)  # FMU-V5 sensor_combined: 200 Hz
@@ -313,7 +316,7 @@ def test_accelerometer_relative_timestamps_are_used(tmp_path):
     acc_time = 1e-6 * (data["timestamp"] + 2500)
     data["accelerometer_m_s2[0]"][:] = np.sin(2 * np.pi * 3.0 * acc_time)
     ulog.write_ulog(str(tmp_path / "shifted.ulg"))
-    ds = read_flight_log(tmp_path / "shifted.ulg", band_hz=BAND)
+    ds = read_flight_log(tmp_path / "shifted.ulg", band_hz=BAND, **AS_IS)
     log_time = ds.time.values + ds.attrs["log_window_s"][0]
     np.testing.assert_allclose(ds.acceleration.values[0], np.sin(2 * np.pi * 3.0 * log_time), atol=2e-3)
 
@@ -323,8 +326,8 @@ def test_vtol_log_is_refused_whole_for_its_start_gap_and_read_after_it():
     t = raw["timestamp"] * 1e-6
     assert t[1] - t[0] > 0.15  # 161 ms between the first two samples
     with pytest.raises(FlightLogError, match=f"{VTOL.name}.*gap of 161.3 ms"):
-        read_flight_log(VTOL, band_hz=BAND)
-    ds = read_flight_log(VTOL, band_hz=BAND, window_s=(t[1], t[-1]))
+        read_flight_log(VTOL, band_hz=BAND, **AS_IS)
+    ds = read_flight_log(VTOL, band_hz=BAND, window_s=(t[1], t[-1]), **AS_IS)
     assert ds.attrs["sample_rate_hz"] == pytest.approx(1 / np.median(np.diff(t[1:])), rel=1e-12)
     assert ds.attrs["sample_rate_hz"] == pytest.approx(204.6, abs=0.1)
     assert float(ds.time[-1]) == pytest.approx(t[-1] - t[1], abs=0.005)
@@ -333,7 +336,7 @@ def test_vtol_log_is_refused_whole_for_its_start_gap_and_read_after_it():
 
 
 def test_dataset_metadata_and_attributes_survive_netcdf(tmp_path):
-    ds = read_flight_log(QUAD, band_hz=BAND, window_s=(4.0, 12.0), imu_to_mount_m=(0.05, 0.0, -0.08))
+    ds = read_flight_log(QUAD, band_hz=BAND, window_s=(4.0, 12.0), imu_to_mount_m=(0.05, 0.0, -0.08), **AS_IS)
     io.check_metadata(ds)
     assert set(ds.data_vars) == {"mount_displacement", "mount_rotation", "acceleration", "angular_rate"}
     assert ds.mount_displacement.dims == ("axis", "time") and list(ds.axis.values) == ["x", "y", "z"]
@@ -545,7 +548,7 @@ def test_too_few_samples_are_refused(tmp_path):
 def test_window_outside_the_log_is_refused(tmp_path, window_s):
     path = tmp_path / QUAD.name
     shutil.copy(QUAD, path)
-    refused(path, "outside the log", window_s=window_s)
+    refused(path, "outside the log", window_s=window_s, **AS_IS)
 
 
 # --- figure ---------------------------------------------------------------------------------------------------------

@@ -12,9 +12,10 @@ import pytest
 from conftest import excitation_options
 from test_flight_log import G, write_csv
 
-from uavdamp import excitation, inertial
-from uavdamp.flight_log import read_flight_log
-from uavdamp.scenarios import MeasuredScenario, ScenarioOptions, measured_input
+from uavdamp.benchmark.scenarios import MeasuredScenario, ScenarioOptions, measured_input
+from uavdamp.signals import inertial
+from uavdamp.sources import excitation
+from uavdamp.sources.flight_log import read_flight_log
 
 FS, BAND = 200.0, (10.0, 60.0)
 LINES = {"y": (23.0, 40e-6), "z": (41.0, 25e-6)}  # Hz, m: a line per axis (FLU), inside the band
@@ -65,12 +66,21 @@ def test_a_log_case_window_inside_the_untrusted_edges_is_refused(tmp_path):
     assert float(ds.time[-1]) == pytest.approx(8.0)
 
 
-def test_cases_sampled_differently_are_refused_naming_the_case(tmp_path):
+def test_cases_sampled_differently_share_the_finest_grid(tmp_path):
+    """A log case at the log's rate beside the same log upsampled 4 times: the coarse case is brought onto the fine
+    grid band-limited (`uavdamp.sources.excitation.on_common_grid`) and then agrees with the fine one away from the
+    record's ends within 1 % of the line (both are band-limited interpolations of the same samples), its own rate
+    recorded."""
     log = read_flight_log(_log(tmp_path), band_hz=BAND)
     fine = read_flight_log(_log(tmp_path), band_hz=BAND, upsample=4)
     options = _options({"a": _case(), "b": _case("fine")}, 4.0)
-    with pytest.raises(ValueError, match=r"study.cases.b: sampled every 0.00125 s \(flight log 'fine'\), the cases"):
-        excitation.cases_dataset({}, options, {"flight": log, "fine": fine})
+    ds = excitation.cases_dataset({}, options, {"flight": log, "fine": fine})
+    assert float(ds.time[1] - ds.time[0]) == pytest.approx(1 / FS / 4)
+    assert list(ds.sample_rate_hz.values) == pytest.approx([FS, 4 * FS])
+    t = ds.time.values
+    inside = (t > 0.5) & (t < t[-1] - 0.5)
+    a, b = (ds.mount_displacement.sel(case=c, mount_axis="z").values[inside] for c in ("a", "b"))
+    assert np.abs(a - b).max() < 0.01 * LINES["z"][1]
 
 
 def test_upsampling_is_band_limited_interpolation(tmp_path):

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from conftest import typed_config
 
-from uavdamp import laws
 from uavdamp.contract import MountMotion
+from uavdamp.damping import laws
 from uavdamp.platform import force_coupling
 from uavdamp.platform.linear_plant import LinearPlant
 

@@ -7,6 +7,7 @@ mass), from Exudyn's own sensors and loads, or from finite differences; never fr
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 
 import exudyn as exu
@@ -417,7 +418,7 @@ def test_a_hover_benchmark_scenario_is_the_flight_run_at_the_scenarios_rotor_spe
     line is the scaled rotor's 1/rev, scaled to the benchmark's amplitude on both axes."""
     from conftest import typed_config
 
-    from uavdamp import scenarios
+    from uavdamp.benchmark import scenarios
 
     config = typed_config("quick.yaml")
     bench = config.benchmark
@@ -434,3 +435,75 @@ def test_a_hover_benchmark_scenario_is_the_flight_run_at_the_scenarios_rotor_spe
         spectrum = np.abs(np.fft.rfft(signal * np.hanning(signal.size), n=8 * signal.size))
         peak = np.fft.rfftfreq(8 * signal.size, dt)[np.argmax(spectrum)]
         assert peak == pytest.approx(one_rev_hz, rel=0.05)
+
+
+# --- a trim that does not converge ----------------------------------------------------------------------------
+
+
+def test_an_unconverged_trim_fails_its_flight_naming_the_keys_and_the_residual(heli):
+    """A trim stopped after one Newton step at a tolerance no Newton step meets (1e-12 of the weight) is refused
+    before the flight, with its residual (above the tolerance it names) and the keys that set it.
+
+    seen failing on the previous main: fly() returned the released, flown run (trim_converged = 0) without a word."""
+    fast = replace(heli.flight.trim, settle=0.2, step_settle=0.1, tolerance=1e-12, max_iterations=1)
+    fh = flying(heli, trim=fast, release=0.05)
+    fh = replace(fh, solver=replace(fh.solver, duration=0.05))
+    with pytest.raises(RuntimeError) as caught:
+        F.fly(fh, "hover")
+    text = str(caught.value)
+    keys = ("fuselage.mass_kg", "main_rotor.omega_rad_s", "flight.forward_advance_ratio", "flight.trim.tolerance")
+    for key in ("helicopter." + k for k in keys + ("flight.allow_unconverged",)):
+        assert key in text
+    residual = float(text.split("largest residual ")[1].split(" ")[0])
+    assert residual > 1e-12  # the residual it reports is above the tolerance it names
+
+
+def test_an_unconverged_trim_flown_when_allowed_is_recorded_and_flags_every_case_taking_it():
+    """helicopter.flight.allow_unconverged: the run's attributes say trim_converged = 0 with the residual and the
+    reason, and the study's cases dataset carries a warning naming the case and the run (a converged run: none).
+
+    seen failing on the previous main: the run carried no verdict (trim.nc only) and cases.nc no flag."""
+    from conftest import excitation_options
+    from test_study import fake_run
+
+    from uavdamp.sources import excitation
+
+    residual = np.array([0.0, 0.0, 0.083, 0.0, 1e-3, 0.0])  # the mu = 0.4 trim's residual size
+    failed = T.TrimResult(
+        x=np.zeros(6), residual=residual, jacobian=np.eye(6), means=np.zeros(T.ROW), scale=np.ones(6),
+        iterations=6, converged=False, state=(np.zeros(1), np.zeros(1)), nu=np.zeros(3), tail_lambda=0.0,
+        time=0.0, history=[], deviation=np.zeros(6),
+    )  # fmt: skip
+    import yaml
+    from conftest import ROOT, helicopter_of
+
+    heli = helicopter_of(yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["helicopter"])
+    attrs = flightdata.trim_attrs(heli, "forward", failed)
+    assert attrs["trim_converged"] == 0 and attrs["trim_residual"] == pytest.approx(0.083)
+    assert "helicopter.flight.allow_unconverged" in attrs["warning"]
+    case = {"run": "forward", "mount": "cg", "motion": "planar", "amplitude_m": 1e-3, "amplitude_reading": "peak"}
+    case["amplitude_scaling"] = "per_axis"
+    options = excitation_options({"gust": case}, duration=5.0, highpass_hz=3.0, band_hz=(3, 12))
+    flagged = excitation.cases_dataset({"forward": fake_run().assign_attrs(attrs)}, options)
+    assert flagged.attrs["warning"].startswith("study.cases.gust: run 'forward' flown on an unconverged trim")
+    clean = excitation.cases_dataset({"forward": fake_run().assign_attrs(trim_converged=1)}, options)
+    assert "warning" not in clean.attrs
+
+
+def test_a_failed_integration_names_the_solver_keys_and_the_time(heli):
+    """Controls that turn NaN after 0.01 s make Exudyn's Newton iteration fail: the error says when and names the
+    keys that set the step (not an Exudyn traceback alone).
+
+    seen failing on the previous main: Exudyn's SolverError ("SolveDynamic terminated") naming no key."""
+    fh = F.flight_helicopter(heli)
+    sim = F.Simulation(fh, fh.solver, 0.0, held=True, initial=F.start_state(fh, 0.1))
+
+    def pilot(s, q, q_t):
+        return np.full(4, np.nan) if s.time > 0.01 else np.zeros(4)
+
+    with pytest.raises(RuntimeError) as caught:
+        sim.solve(0.05, pilot)
+    text = str(caught.value)
+    assert re.search(r"did not converge at t = 0\.01\d* s of 0\.05 s", text), text  # at the first NaN step
+    for key in ("helicopter.solver.step_s", "helicopter.main_rotor.omega_rad_s"):
+        assert key in text

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from uavdamp import image_quality as iq
-from uavdamp.camera import CameraModel
+from uavdamp.camera import image_quality as iq
+from uavdamp.camera.optics import CameraModel
 
 T = 4.0e-3  # s, exposure
 FPS = 25.0  # Hz: a frame period of 0.04 s, a whole number of samples at the steps used below

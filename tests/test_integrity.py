@@ -1,5 +1,5 @@
 """The quick run's outputs, damaged on a copy: a flipped byte, a truncation or damaged metadata is refused on read
-naming the file and its rebuild; `python -m uavdamp.verify` lists them and the stale temporary files."""
+naming the file and its rebuild; `python -m uavdamp.results.verify` lists them and the stale temporary files."""
 
 from __future__ import annotations
 
@@ -12,8 +12,9 @@ import sys
 import pytest
 from conftest import QUICK_RUN_ARGS, copy_workflow, flip_byte_in_data, snakemake
 
-from uavdamp import io, verify
+from uavdamp import io
 from uavdamp.reference_table import chunks
+from uavdamp.results import verify
 
 OUT = "reports-quick"
 DAMAGED = {  # a stage's output and a float variable of it

@@ -195,3 +195,94 @@ def test_a_config_section_not_stored_is_named_with_the_file_and_what_is_stored(t
     named = r"a\.nc: no attribute 'config_anfis': config section 'anfis' not stored \(stored: \['study'\]\)"
     with pytest.raises(KeyError, match=named):
         io.read_config_attr(opened, "anfis")
+
+
+# ------------------------------------------------------------------ which run an output belongs to (uavdamp.integrity)
+
+
+def _job(monkeypatch, tmp_path, digest, run_started, *, outputs=("study/comparison.nc",), expects=None, rule="study"):
+    """An `integrity.Job` of a fake Snakemake job: its digest, its run's start, its outputs under tmp_path."""
+    from types import SimpleNamespace
+
+    from uavdamp import integrity
+
+    monkeypatch.setenv(io.STAMP_ENV, "{}")  # restored after the test: Job sets it for this process
+    monkeypatch.setenv(io.PROVENANCE_ENV, json.dumps({"run_started": run_started}))
+    params = SimpleNamespace(digest=digest, expects=expects or {})
+    smk = SimpleNamespace(params=params, rule=rule, output=[str(tmp_path / o) for o in outputs])
+    return integrity.Job(smk)
+
+
+def test_the_plan_digest_is_sha256_of_the_sorted_view_and_the_upstream_digests():
+    import hashlib
+
+    from uavdamp import integrity
+
+    text = '{"params": {"a": 1, "b": [2.5, "x"]}, "upstream": ["0f", "1e"]}'  # json.dumps, keys sorted, by hand
+    assert (
+        integrity.plan_digest({"b": [2.5, "x"], "a": 1}, ["1e", "0f", "1e"])
+        == hashlib.sha256(text.encode()).hexdigest()[:16]
+    )
+    assert integrity.plan_digest({"a": 1}, ["0f"]) != integrity.plan_digest({"a": 1}, ["0e"])  # an upstream edit
+
+
+def test_a_job_stamps_what_it_writes_and_a_consumer_refuses_a_foreign_digest_naming_file_and_rule(
+    monkeypatch, tmp_path
+):
+    """Seen failing on the previous main: no digest existed; a consumer read any file at its input's path."""
+    from uavdamp import integrity
+
+    job = _job(monkeypatch, tmp_path, "aaaa000011112222", "2026-01-01T10:00:00.000000+00:00")
+    path = tmp_path / "study/comparison.nc"
+    with job.writing():
+        io.write_netcdf(small_dataset(), path, {}, section="study")
+    attrs = io.open_dataset(path).attrs
+    assert (attrs["config_digest"], attrs["config_digest_rule"]) == ("aaaa000011112222", "study")
+    assert attrs["run_started"] == "2026-01-01T10:00:00.000000+00:00"
+    integrity.check_inputs({str(path): ["aaaa000011112222", "study"]})  # the plan's digest: accepted
+    with pytest.raises(integrity.StaleInput) as error:
+        integrity.check_inputs({str(path): ["bbbb000011112222", "study"]})
+    text = str(error.value)
+    assert text.startswith(f"{path}: made with config digest aaaa000011112222")
+    assert "expects bbbb000011112222" in text and f"rule study rebuilds it: rm {path} && snakemake" in text
+    monkeypatch.setenv(io.STAMP_ENV, "{}")  # an output written without a stamp (an earlier version's)
+    io.write_netcdf(small_dataset(), tmp_path / "old.nc", {}, section="study")
+    with pytest.raises(integrity.StaleInput, match="old.nc: made with config digest none"):
+        integrity.check_inputs({str(tmp_path / "old.nc"): ["bbbb000011112222", "study"]})
+
+
+@pytest.mark.parametrize("later", [True, False])
+def test_an_output_of_a_later_run_is_not_replaced_one_of_an_earlier_run_is(monkeypatch, tmp_path, later):
+    """Seen failing on the previous main: any job replaced any output (the study's with an earlier run's)."""
+    from uavdamp import integrity
+
+    path = tmp_path / "study/comparison.nc"
+    newer = _job(monkeypatch, tmp_path, "c" * 16, "2026-01-01T12:00:00.000000+00:00")
+    with newer.writing():
+        io.write_netcdf(small_dataset(), path, {}, section="study")
+    before = path.read_bytes()
+    started = "2026-01-01T11:00:00.000000+00:00" if later else "2026-01-01T13:00:00.000000+00:00"
+    other = _job(monkeypatch, tmp_path, "a" * 16, started)
+    if later:  # the existing output's run started after this job's: kept, nothing written
+        with pytest.raises(integrity.NewerOutput, match=f"^{path}: not replaced: it holds the result of a later run"):
+            with other.writing():
+                io.write_netcdf(small_dataset() * 2, path, {}, section="study")
+        assert path.read_bytes() == before
+    else:
+        with other.writing():
+            io.write_netcdf(small_dataset(), path, {}, section="study")
+        assert io.open_dataset(path).attrs["config_digest"] == "a" * 16
+
+
+def test_a_text_output_carries_its_stamp_beside_it(monkeypatch, tmp_path):
+    from uavdamp import integrity
+
+    job = _job(monkeypatch, tmp_path, "d" * 16, "2026-01-01T12:00:00.000000+00:00", outputs=("summary.md",))
+    with job.writing():
+        io.write_text("# results\n", tmp_path / "summary.md")
+    assert integrity.read_stamp(tmp_path / "summary.md")["config_digest"] == "d" * 16
+    early = _job(monkeypatch, tmp_path, "e" * 16, "2026-01-01T11:00:00.000000+00:00", outputs=("summary.md",))
+    with pytest.raises(integrity.NewerOutput, match="summary.md: not replaced"):
+        with early.writing():
+            io.write_text("# stale\n", tmp_path / "summary.md")
+    assert (tmp_path / "summary.md").read_text() == "# results\n"

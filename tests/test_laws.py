@@ -6,14 +6,18 @@ import math
 
 import numpy as np
 import pytest
-from conftest import load_config, platform_from, sine_yz, study_options_of
+from conftest import load_config, planar_cases, platform_from, sine_yz, study_options_of
 from test_image_quality import CAM, F
 
-from uavdamp import contract, laws, metrics, spectrum, strategies
-from uavdamp import image_quality as iq
+from uavdamp import contract
 from uavdamp.anfis.estimator import ANFIS
-from uavdamp.contract import DamperBounds, DampingLaw, MountMotion, Observation
+from uavdamp.benchmark import scoring
+from uavdamp.camera import image_quality as iq
+from uavdamp.contract import DamperBounds, DampingLaw, MountMotion, Observation, SolverFailed
+from uavdamp.damping import laws
 from uavdamp.platform import ExudynPlant, PlatformParams
+from uavdamp.signals import spectrum
+from uavdamp.study import metrics, strategies
 
 BOUNDS = DamperBounds(0.5, 150.0)
 
@@ -370,3 +374,125 @@ def test_a_plugin_name_that_is_not_a_safe_name_is_refused(monkeypatch, name):
     with pytest.raises(ValueError, match=r"^strategy name .* must match \[A-Za-z0-9_\]\+"):
         strategies.register(name)(lambda context: None)
     assert name not in strategies.REGISTRY
+
+
+# ---------------------------------------------------------------------------- clipped and non-finite demands
+
+
+class _Listed:
+    """A law returning `values` in turn at its updates (the last one held)."""
+
+    update_period = None  # the configured platform.isolator.update_period_s
+
+    def __init__(self, values, name="listed"):
+        self.values, self.name, self.k = list(values), name, 0
+
+    def reset(self) -> None:
+        self.k = 0
+
+    def __call__(self, observation: Observation) -> float:
+        value = self.values[min(self.k, len(self.values) - 1)]
+        self.k += 1
+        return value
+
+
+def _sine_run(params, duration_s: float):
+    t = np.arange(0.0, duration_s + 1e-9, params.time_step)
+    return t, MountMotion.planar(1e-3 * np.sin(2 * np.pi * 7.0 * t), 1e-3 * np.sin(2 * np.pi * 8.0 * t))
+
+
+def test_clipped_demands_are_counted_in_every_plants_response(params):
+    """Demands above c_max and below c_min are clipped and counted: the count is the listed demands outside the
+    bounds among the first N, N = the update times of the run (every update_period_s from 0 before its end), both
+    stored with units and long_name in the response.
+
+    seen failing on the previous main: the response held no record of a clipped demand (no demands_clipped)."""
+    from dataclasses import replace
+
+    from uavdamp.platform.plants import Plants
+
+    b = DamperBounds.from_params(params)
+    demands = [10 * b.c_max + 1.0, b.c_min - 1.0, 0.5 * (b.c_min + b.c_max), 2 * b.c_max, b.c_min]
+    t, motion = _sine_run(params, 2.0)
+    steps, per_update = round(t[-1] / params.time_step), round(params.isolator.update_period / params.time_step)
+    updates = math.ceil(steps / per_update)
+    listed = (demands + [demands[-1]] * updates)[:updates]
+    expected = sum(1 for d in listed if not b.c_min <= d <= b.c_max)
+    for backend in ("linear", "exudyn"):
+        law = _Listed(demands)
+        response = (
+            Plants(replace(params, backend=backend)).for_run("isolated", law).run(t, motion, stiffness=10.0, law=law)
+        )
+        assert int(response.demand_updates) == updates, backend
+        assert int(response.demands_clipped) == expected, backend
+        assert response.demands_clipped.attrs["units"] == "1" and "clipped" in response.demands_clipped.long_name
+    # carried into the benchmark's resources (criteria.nc) and the study's comparison
+    rigid = scoring.response_metrics(Plants(params).for_run("rigid", None).run(t, motion), CAM)
+    assert scoring.criteria(response, rigid, CAM)[2]["demands_clipped"] == expected
+    name = "listed_demand_test"
+    if name not in strategies.REGISTRY:
+        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", _Listed(demands)))
+    cases = planar_cases("gust", t, motion.translation[1], motion.translation[2])
+    options = replace(
+        study_options_of(load_config("quick.yaml")["study"]), strategies=("rigid", name), stiffness=(10.0,)
+    )
+    from uavdamp.study import comparison as study
+
+    cases.attrs["warning"] = "study.cases.gust: flagged"  # as excitation flags a run flown on an unconverged trim
+    comparison = study.run_study(cases, params, None, options)
+    assert comparison.attrs["input_warning"] == "study.cases.gust: flagged"
+    clipped = comparison.demands_clipped.sel(case="gust", stiffness=10.0)
+    assert clipped.sel(strategy=name) == expected and clipped.sel(strategy="rigid") == 0
+    assert comparison.demands_clipped.attrs["units"] == "1"
+
+
+def test_a_non_finite_demand_names_the_law_the_strategy_and_the_case(params):
+    """A law returning NaN inside a study run: the error names the law, study.strategies' entry, the case and K.
+
+    seen failing on the previous main: "damping: the law returned the non-finite value nan at t = 0.0 s" only."""
+    from dataclasses import replace
+
+    from uavdamp.study import comparison as study
+
+    name = "nan_demand_test"
+    if name not in strategies.REGISTRY:
+        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", _Listed([math.nan], "nan_law")))
+    t, motion = _sine_run(params, 1.0)
+    cases = planar_cases("gust", t, motion.translation[1], motion.translation[2])
+    options = replace(study_options_of(load_config("quick.yaml")["study"]), strategies=(name,), stiffness=(10.0,))
+    with pytest.raises(ValueError) as error:
+        study.run_study(cases, params, None, options)
+    text = str(error.value)
+    for part in (f"study.strategies {name!r}", "study.cases.gust", "K = 10 N m-1", "'nan_law'", "non-finite"):
+        assert part in text, text
+
+
+class _Stopping(_Listed):
+    """A law after whose first update the plant's solver stops (SolverFailed, as a plant raises it)."""
+
+    def __call__(self, observation: Observation) -> float:
+        if self.k:
+            raise SolverFailed("solver stopped at t = 0.5 s of 1 s; the keys that set the step: platform.solver")
+        return super().__call__(observation)
+
+
+def test_a_stopped_solver_names_the_strategy_the_case_and_k(params):
+    """A plant's SolverFailed inside a study run names study.strategies' entry, the case and K beside the plant's
+    own text (the keys that set its step).
+
+    seen failing with SolverFailed left out of the study's except clause: the plant's text alone."""
+    from dataclasses import replace
+
+    from uavdamp.study import comparison as study
+
+    name = "stopping_solver_test"
+    if name not in strategies.REGISTRY:
+        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", _Stopping([1.0], "stop_law")))
+    t, motion = _sine_run(params, 1.0)
+    cases = planar_cases("gust", t, motion.translation[1], motion.translation[2])
+    options = replace(study_options_of(load_config("quick.yaml")["study"]), strategies=(name,), stiffness=(10.0,))
+    with pytest.raises(SolverFailed) as error:
+        study.run_study(cases, params, None, options)
+    text = str(error.value)
+    for part in (f"study.strategies {name!r}", "study.cases.gust", "K = 10 N m-1", "platform.solver"):
+        assert part in text, text

@@ -10,9 +10,9 @@ import pytest
 from conftest import PLATFORM as CONFIG
 from conftest import FunctionLaw, camera_of, load_config, platform_from, sine_yz
 
-from uavdamp import image_quality as iq
+from uavdamp.camera import image_quality as iq
 from uavdamp.contract import MountMotion
-from uavdamp.laws import Constant, Schedule
+from uavdamp.damping.laws import Constant, Schedule
 from uavdamp.platform import ExudynPlant, linear_plant
 from uavdamp.platform.linear_plant import LinearPlant, linearise
 from uavdamp.platform.statespace import StateSpace, discretise, free_response_rows, lift, propagate, sine_outputs

@@ -13,8 +13,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from uavdamp import metrics
 from uavdamp.contract import response_dataset
+from uavdamp.study import metrics
 
 DT = 1e-3  # s
 OPTIONS = SimpleNamespace(early_s=0.5, settle_s=1.0, camera=None)

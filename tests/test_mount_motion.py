@@ -12,7 +12,7 @@ import pytest
 from conftest import PLATFORM, platform_params, sine_yz
 
 from uavdamp.contract import MountMotion
-from uavdamp.laws import Constant
+from uavdamp.damping.laws import Constant
 from uavdamp.platform import ExudynPlant, LinearPlant
 from uavdamp.platform.params import StrokeBudget
 from uavdamp.platform.stroke import manoeuvre_stroke, static_sag, stroke_budget

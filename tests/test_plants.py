@@ -7,10 +7,11 @@ import pytest
 from conftest import PLATFORM as CONFIG
 from conftest import load_config, planar_cases, platform_from, study_options_of
 
-from uavdamp import laws, study
+from uavdamp.damping import laws
 from uavdamp.platform import ExudynPlant
 from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.platform.plants import Plants
+from uavdamp.study import comparison as study
 
 
 @pytest.mark.parametrize(

@@ -13,7 +13,7 @@ import yaml
 from conftest import FunctionLaw, load_config, mount_yz, platform_config, platform_from, platform_params, sine_yz
 
 from uavdamp.contract import MountMotion, Observation, SolverFailed
-from uavdamp.laws import Constant, Schedule
+from uavdamp.damping.laws import Constant, Schedule
 from uavdamp.platform import ExudynPlant, PlatformParams, PlatformSection, modes_dataset, natural_frequencies
 from uavdamp.platform.design import design_stiffness, mass_matrix, pitch_link
 from uavdamp.settings import keys, parse

@@ -1,6 +1,6 @@
-"""A plug-in law's own tuned parameter (`uavdamp.tuning.register_tuned`): tuned on the tuning scenarios exactly as
-a built-in one (in a benchmark.tuning range or its own), run once per tuning criterion, counted in the budget, and
-refused when taken or badly ranged.
+"""A plug-in law's own tuned parameter (`uavdamp.benchmark.tuning.register_tuned`): tuned on the tuning scenarios
+exactly as a built-in one (in a benchmark.tuning range or its own), run once per tuning criterion, counted in the
+budget, and refused when taken or badly ranged.
 
 The expected values come from the built-in passive_tuned: the test's plug-in is the same law (a constant C read
 from ``ctx.tuned``) under another name, so its search must land where the built-in one does."""
@@ -11,7 +11,11 @@ from dataclasses import replace
 import pytest
 from conftest import typed_config
 
-from uavdamp import benchmark, budget, laws, scenarios, strategies, tuning
+from uavdamp.benchmark import loop as benchmark
+from uavdamp.benchmark import scenarios, tuning
+from uavdamp.config import budget
+from uavdamp.damping import laws
+from uavdamp.study import strategies
 
 CONFIG = typed_config("quick.yaml")
 BENCH = CONFIG.benchmark

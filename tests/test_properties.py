@@ -20,8 +20,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from uavdamp import contract, laws
+from uavdamp import contract
 from uavdamp.anfis.estimator import ANFIS
+from uavdamp.damping import laws
 from uavdamp.reference_table import criteria as criterion
 from uavdamp.reference_table import grid
 

@@ -356,3 +356,26 @@ def test_resume_after_kill_gives_identical_table(quick_run, tmp_path):
     reference = io.open_dataset(quick_run / target)
     for name in reference.data_vars:
         np.testing.assert_array_equal(resumed[name].values, reference[name].values, err_msg=name)
+
+
+def test_an_optimum_on_an_edge_of_the_c_grid_is_flagged_with_its_share():
+    """Seen failing on the previous main: the table had no flag; a cell whose criterion still falls at the grid's
+    largest C (0.1-10 N s/m here) got damping_opt 10 like an interior optimum."""
+    c = np.geomspace(0.1, 10, 5)  # the synthetic grid's C axis, N s/m
+    values = np.empty((2, 2, 2, 5))
+    values[...] = (np.log10(c) - np.log10(c[2])) ** 2 + 1  # interior minimum at c[2]
+    values[0, 0, 0] = 1 / c  # decreasing in C: the optimum lies beyond the top
+    values[0, 1, 0] = c  # increasing: beyond the bottom
+    values[1, 1, 1] = 1 / c
+    free = one_table(values)  # the damper's bounds unknown: every edge may hide a better C
+    expected = np.zeros((2, 2, 2), dtype=int)
+    expected[0, 0, 0], expected[0, 1, 0], expected[1, 1, 1] = 2, 1, 2
+    np.testing.assert_array_equal(free.optimum_at_grid_edge.values, expected)
+    assert float(free.grid_edge_share) == 3 / 8
+    assert {"units", "long_name", "flag_values", "flag_meanings"} <= set(free.optimum_at_grid_edge.attrs)
+    # the top of the grid is the damper's largest C: the best C the damper can give, kept (flag 3, not counted)
+    table = criterion.reference_table(synthetic_grid(values), damper_bounds=(0.0, 10.0))
+    chosen = criterion.select_table(table, "displacement", "transient")
+    expected[expected == 2] = 3
+    np.testing.assert_array_equal(chosen.optimum_at_grid_edge.values, expected)
+    assert float(chosen.grid_edge_share) == 1 / 8

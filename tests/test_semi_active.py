@@ -9,8 +9,8 @@ from conftest import load_config, platform_from, sine_yz
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from uavdamp import laws, semi_active
 from uavdamp.contract import DamperBounds, MountMotion, Observation
+from uavdamp.damping import laws, semi_active
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.reference_table import TableLookup

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from uavdamp import spectrum
+from uavdamp.signals import spectrum
 
 
 def test_amplitude_of_a_bin_centred_sine():

@@ -20,8 +20,13 @@ from conftest import (
     study_options_of,
 )
 
-from uavdamp import checks, excitation, io, laws, metrics, strategies, study
+from uavdamp import io
+from uavdamp.config import checks
 from uavdamp.contract import MountMotion
+from uavdamp.damping import laws
+from uavdamp.sources import excitation
+from uavdamp.study import comparison as study
+from uavdamp.study import metrics, strategies
 
 
 def fake_run(duration=6.0, dt=0.005):
@@ -205,7 +210,7 @@ def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):
 
 
 def test_unknown_strategy_is_refused_naming_it(quick_config):
-    """Before any job (`uavdamp.checks`, after the plug-ins load), and by the factory lookup in a job."""
+    """Before any job (`uavdamp.config.checks`, after the plug-ins load), and by the factory lookup in a job."""
     cfg = {k: v for k, v in quick_config["study"].items() if k not in ("cases", "duration_s", "highpass_hz", "figures")}
     with pytest.raises(ValueError, match=r"study.strategies: unknown strategy \['telepathy'\]"):
         checks.validate(deep_update(quick_config, {"study": {"strategies": ["passive", "telepathy"]}}))
@@ -217,7 +222,7 @@ def test_unknown_strategy_is_refused_naming_it(quick_config):
 
 def test_blur_recomputed_from_the_stored_line_of_sight_equals_the_stored_metric(comparison):
     """A user can recompute the image metrics from comparison.nc alone: its LOS series and camera attributes."""
-    from uavdamp.image_quality import image_metrics
+    from uavdamp.camera.image_quality import image_metrics
 
     attrs = {k.removeprefix("camera_"): v for k, v in comparison.attrs.items() if k.startswith("camera_")}
     camera = camera_of(

@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from uavdamp import spectrum, tracking
 from uavdamp.settings import parse
+from uavdamp.signals import spectrum, tracking
 
 
 def parse_tracking(section) -> tracking.TrackerOptions:

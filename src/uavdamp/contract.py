@@ -17,9 +17,9 @@ DampingLaw: anything with ``name``, ``update_period`` (s, or None for the platfo
 ``reset()`` (called by the plant at the start of every run) and ``__call__(observation) -> float``, the damping
 demand in N s m-1. The plant calls it at t = 0, P, 2P, ... (P the update period); the value returned at t_k acts
 from t_k on (the state at t_k is still that of the old C). A law may return any finite number: the plant clips it
-to [damping_min, damping_max] in one place (`clip`); a non-finite demand is an error. Laws: `uavdamp.laws`.
+to [damping_min, damping_max] in one place (`clip`); a non-finite demand is an error. Laws: `uavdamp.damping.laws`.
 
-Metric: a function of a response dataset (and the study's options) registered by name in `uavdamp.metrics`.
+Metric: a function of a response dataset (and the study's options) registered by name in `uavdamp.study.metrics`.
 """
 
 from __future__ import annotations
@@ -77,9 +77,31 @@ class MountMotion:
         return self.translation[2]
 
 
+def on_grid(time, mount: MountMotion, h: float) -> tuple[np.ndarray, MountMotion]:
+    """Validated input resampled (linearly, each component) onto the solver grid 0, h, 2h, ... <= time[-1]."""
+    time = np.asarray(time, dtype=float)
+    translation = np.asarray(mount.translation, dtype=float)
+    rotation = np.asarray(mount.rotation, dtype=float)
+    if time.ndim != 1 or time.size < 2 or not np.all(np.diff(time) > 0):
+        raise ValueError("time must be 1-D, increasing, with at least 2 samples")
+    if abs(time[0]) > 1e-12:
+        raise ValueError(f"time must start at 0 s, got {time[0]}")
+    for name, values in (("mount translation", translation), ("mount rotation", rotation)):
+        if values.shape != (3, time.size):
+            raise ValueError(f"{name} must have the shape (3, {time.size}) of (axis, time), got {values.shape}")
+        if not np.all(np.isfinite(values)):
+            raise ValueError(f"{name} must be finite")
+    steps = int(math.floor(time[-1] / h + 1e-9))
+    if steps < 1:
+        raise ValueError(f"time must reach at least one time_step ({h} s)")
+    grid = np.arange(steps + 1) * h
+    resample = np.vectorize(lambda row: np.interp(grid, time, row), signature="(n)->(m)")
+    return grid, MountMotion(resample(translation), resample(rotation))
+
+
 def line_of_sight(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(azimuth psi, elevation theta) rad of optical-axis directions `axis` (..., 3) in the inertial frame, the
-    camera's convention (`uavdamp.camera`): axis = (cos psi cos theta, sin psi cos theta, -sin theta)."""
+    camera's convention (`uavdamp.camera.optics`): axis = (cos psi cos theta, sin psi cos theta, -sin theta)."""
     axis = np.asarray(axis, dtype=float)
     return np.arctan2(axis[..., 1], axis[..., 0]), np.arcsin(np.clip(-axis[..., 2], -1.0, 1.0))
 
@@ -159,7 +181,7 @@ def prepare_run(plant, stiffness: float | None, law) -> tuple[float, object | No
     if not isinstance(law, DampingLaw):
         raise TypeError(
             f"damping: the isolated mount needs a damping law (uavdamp.contract.DampingLaw, e.g. "
-            f"uavdamp.laws.Constant(c)), got {law!r}"
+            f"uavdamp.damping.laws.Constant(c)), got {law!r}"
         )
     h = p.time_step
     period = p.update_period if law.update_period is None else float(law.update_period)
@@ -189,12 +211,43 @@ class DamperBounds:
         return bool(self.c_min <= c <= self.c_max)
 
 
-def clip(demand: float, bounds: DamperBounds, t_now: float) -> float:
-    """The damping a damper gives for a demand, N s m-1: the demand clipped to the bounds (the one place)."""
+class NonFiniteDemand(ValueError):
+    """A law returned NaN or inf (its message names the law and the time; the study and benchmark add where)."""
+
+
+def law_name(law) -> str:
+    """A law's name for messages: its ``name`` attribute, else its class name."""
+    return str(getattr(law, "name", type(law).__name__))
+
+
+def clip(demand: float, bounds: DamperBounds, t_now: float, law=None) -> float:
+    """The damping a damper gives for a demand, N s m-1: the demand clipped to the bounds (the one place).
+    NonFiniteDemand (naming `law` when given) for NaN or inf."""
     c = float(demand)
     if not math.isfinite(c):
-        raise ValueError(f"damping: the law returned the non-finite value {c} at t = {t_now} s")
+        who = f"the law {law_name(law)!r}" if law is not None else "the law"
+        raise NonFiniteDemand(f"damping: {who} returned the non-finite value {c} at t = {t_now} s")
     return min(max(c, bounds.c_min), bounds.c_max)
+
+
+def new_clip_count() -> dict[str, int]:
+    """A run's demand counter for `counted_clip`: demands made and demands outside the bounds."""
+    return {"updates": 0, "clipped": 0}
+
+
+def counted_clip(law, observation, bounds: DamperBounds, counts: dict[str, int]) -> float:
+    """`law`'s demand for `observation`, clipped (`clip`), counted in `counts` (`new_clip_count`)."""
+    raw = float(law(observation))
+    c = clip(raw, bounds, observation.t_now, law)
+    counts["updates"] += 1
+    counts["clipped"] += int(c != raw)
+    return c
+
+
+CLIP_VARIABLES = {
+    "demand_updates": ("1", "damping demands the law made in the run"),
+    "demands_clipped": ("1", "damping demands outside the damper bounds, clipped to them, in the run"),
+}
 
 
 def response_attrs(plant, stiffness: float) -> dict:
@@ -209,8 +262,9 @@ def response_attrs(plant, stiffness: float) -> dict:
     }
 
 
-def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dict) -> xr.Dataset:
-    """A plant's response dataset from arrays named and shaped as in RESPONSE_VARIABLES (all of them)."""
+def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dict, clips=None) -> xr.Dataset:
+    """A plant's response dataset from arrays named and shaped as in RESPONSE_VARIABLES (all of them), with the run's
+    demand counts (`new_clip_count`; zeros for a run without a law) as the scalars of CLIP_VARIABLES."""
     missing = sorted(set(RESPONSE_VARIABLES) - set(values))
     if missing:
         raise ValueError(f"response: missing variable(s) {missing}")
@@ -223,6 +277,10 @@ def response_dataset(time: np.ndarray, values: dict[str, np.ndarray], attrs: dic
         "axis": ("axis", list(AXES), {"units": "1", "long_name": "direction (y lateral, z up)"}),
         "mount_axis": ("mount_axis", list(MOUNT_AXES), {"units": "1", "long_name": "mount axis (x forward, y, z up)"}),
     }
+    clips = clips or new_clip_count()
+    keys = {"demand_updates": "updates", "demands_clipped": "clipped"}
+    for name, (units, long_name) in CLIP_VARIABLES.items():
+        data[name] = ((), int(clips[keys[name]]), {"units": units, "long_name": long_name})
     ds = xr.Dataset(data, coords=coords, attrs={**attrs, **{f"frame_{k}": v for k, v in FRAMES.items()}})
     for name in ("isolator_stroke", "isolator_velocity"):
         ds[name].attrs["frame"] = "isolator"

@@ -4,7 +4,8 @@ one writer per output.
 Every variable of one or more dimensions is written with HDF5's Fletcher-32 filter (chunked storage; 0-d
 variables are stored compact and carry none), so a flipped byte in its data fails on read; `open_dataset` reads
 everything eagerly and turns netCDF/HDF5 errors and truncation into `CorruptOutput`, naming the file and the
-command that rebuilds it. `exclusive(path)` holds an OS file lock beside an output while a job writes it.
+command that rebuilds it. `exclusive(path)` holds an OS file lock beside an output while a job writes it. A job's
+config digest and run start (`uavdamp.integrity`) reach every file it writes through `STAMP_ENV`.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ REFERENCE = (
 TIME_UNITS = "s since 2000-01-01 00:00:00"
 LOCK_WAIT_S = 6 * 3600.0  # s a job waits for another live writer of its output (a dead one's lock is already free)
 PROVENANCE_ENV = "UAVDAMP_PROVENANCE"  # JSON set by the Snakefile (uavdamp.workflow.export_provenance)
+STAMP_ENV = "UAVDAMP_STAMP"  # JSON set by a job: its config digest and run start (uavdamp.integrity.Job)
 _VERSIONED = ("uavdamp", "numpy", "scipy", "exudyn", "xarray", "netCDF4", "joblib", "scikit-fuzzy", "snakemake")
 
 
@@ -88,7 +90,7 @@ def writer_tag() -> str:
 
 def atomic_write(path: str | os.PathLike, write) -> Path:
     """Call write(temporary path) in `path`'s folder, then rename it over `path`; nothing is left on failure
-    (but a SIGKILL: `.NAME~host~pid~XXXX.tmp.SUFFIX` stays, `uavdamp.verify` finds and cleans it).
+    (but a SIGKILL: `.NAME~host~pid~XXXX.tmp.SUFFIX` stays, `uavdamp.results.verify` finds and cleans it).
 
     The temporary file gets the permissions a plain open() would give (umask), not mkstemp's 0600.
     """
@@ -142,6 +144,7 @@ def with_provenance(ds: xr.Dataset, config: dict, *, section: str, command: str 
             "package_versions": json.dumps(package_versions(), sort_keys=True),
             f"config_{section}": json.dumps(config, sort_keys=True, default=json_default),
             **json.loads(os.environ.get(PROVENANCE_ENV, "{}")),
+            **json.loads(os.environ.get(STAMP_ENV, "{}")),
             **plugins.provenance(),
         }
     )

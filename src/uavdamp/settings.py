@@ -1,4 +1,4 @@
-"""Typed config sections: the machinery every section class uses (`uavdamp.config` assembles the whole config).
+"""Typed config sections: the machinery every section class uses (`uavdamp.config.load` assembles the whole config).
 
 A section is a frozen dataclass whose fields are declared with `setting(...)`; the config key defaults to the
 field's name, or is given where the key carries a unit the Python name does not need (``time_step`` <-
@@ -7,7 +7,7 @@ bool, str, a tuple of those or of sections, a nested section, a mapping of secti
 optional part) and raises `ConfigError` naming ``where.key`` for an unknown, renamed, missing or ill-typed key
 (an unknown key gets the nearest valid one, a renamed key its new name). Range checks live in each class's
 ``validate()`` (called by `parse`; ``validate(where)`` for a part used under several keys), checks across sections
-in `uavdamp.checks`.
+in `uavdamp.config.checks`.
 """
 
 from __future__ import annotations
@@ -100,12 +100,29 @@ def _scalar(value, kind, where: str):
         return value
     if kind is float:
         ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-        require(ok, where, f"expected a finite number, got {value!r}")
+        require(ok, where, f"expected a finite number, got {value!r}{_yaml_number_hint(value)}")
         return float(value)
     if kind is str:
         require(isinstance(value, str), where, f"expected a string, got {value!r}")
         return value
     raise TypeError(f"{where}: unsupported field type {kind!r}")
+
+
+_YAML11_STRING_NUMBER = re.compile(r"([-+]?(?:\d+\.?\d*|\.\d+))[eE]([-+]?)(\d+)")
+
+
+def _yaml_number_hint(value) -> str:
+    """Why a number written like 1.0e9 or 1e-3 arrived as a string: YAML 1.1 (PyYAML, Snakemake's loader) reads a
+    float in exponent notation only with a dot in the mantissa and a signed exponent; the fix in both notations."""
+    found = _YAML11_STRING_NUMBER.fullmatch(value.strip()) if isinstance(value, str) else None
+    if found is None:
+        return ""
+    mantissa, sign, exponent = found.groups()
+    dotted = mantissa if "." in mantissa else f"{mantissa}.0"
+    return (
+        f": YAML 1.1 reads {value} as a string (a float needs a dot and a signed exponent): write "
+        f"{dotted}e{sign or '+'}{exponent} or {float(value)!r}"
+    )
 
 
 def convert(value, kind, where: str, length: int | None = None):

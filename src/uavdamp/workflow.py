@@ -6,6 +6,7 @@ and the scripts call `start_log`, `log_info` and `snakemake_command`.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import os
@@ -13,7 +14,28 @@ import subprocess
 import sys
 from pathlib import Path
 
+import jsonschema
+import yaml
+
+from uavdamp import plugins
+from uavdamp.integrity import RUN_ATTR, now
 from uavdamp.io import PROVENANCE_ENV, package_versions
+from uavdamp.settings import ConfigError
+
+DEBUG_ENV = "UAVDAMP_DEBUG"  # set to 1: a config error shows its traceback too
+
+
+@contextlib.contextmanager
+def config_errors_alone(stream=None):
+    """In the Snakefile, around the config checks: a `ConfigError` printed as its message alone (the key and the
+    rule it breaks) and the run stopped with exit status 1; with UAVDAMP_DEBUG=1 it propagates with its traceback."""
+    try:
+        yield
+    except ConfigError as error:
+        if os.environ.get(DEBUG_ENV, "") not in ("", "0"):
+            raise
+        print(f"config error: {error}\n(traceback: {DEBUG_ENV}=1)", file=stream or sys.stderr)
+        raise SystemExit(1) from None
 
 
 def snakemake_command(smk) -> str:
@@ -37,10 +59,6 @@ def check_schema(config: dict, schema_path: str | os.PathLike) -> None:
     """ConfigError naming the dotted key, its value and the rule of the config schema (units, ranges) it breaks.
 
     jsonschema's most relevant error only, in one line (Snakemake's `validate` prints the whole schema)."""
-    import jsonschema
-    import yaml
-
-    from uavdamp.settings import ConfigError
 
     schema = yaml.safe_load(Path(schema_path).read_text())
     error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(schema).iter_errors(config))
@@ -51,7 +69,6 @@ def check_schema(config: dict, schema_path: str | os.PathLike) -> None:
 
 def load_plugins(smk) -> list[dict]:
     """Import the job's plug-in law files (its input `plugins`, `uavdamp.plugins`) and log their SHA-256."""
-    from uavdamp import plugins
 
     records = plugins.load(list(getattr(smk.input, "plugins", [])))
     for record in records:
@@ -89,8 +106,10 @@ def export_provenance(configfiles, basedir: str, argv=None) -> dict:
     """Put the run's provenance where every job's `uavdamp.io.write_netcdf` finds it (an environment variable).
 
     git commit of `basedir` and whether its tree had uncommitted changes ("unknown" outside a git work tree),
-    the full Snakemake command line, the config files in the order Snakemake merged them.
+    the full Snakemake command line, the config files in the order Snakemake merged them, and the run's start
+    (`run_started`, UTC: `uavdamp.integrity` tells an earlier run's output from a later one's by it).
     """
+
     commit = _git(basedir, "rev-parse", "HEAD")
     status = _git(basedir, "status", "--porcelain", "--untracked-files=no") if commit else None
     provenance = {
@@ -98,6 +117,7 @@ def export_provenance(configfiles, basedir: str, argv=None) -> dict:
         "git_tree_dirty": "unknown" if status is None else ("yes" if status else "no"),
         "command_line": " ".join(sys.argv if argv is None else argv),
         "config_files": json.dumps([str(f) for f in configfiles]),
+        RUN_ATTR: now(),
     }
     os.environ[PROVENANCE_ENV] = json.dumps(provenance)
     return provenance

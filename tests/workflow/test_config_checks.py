@@ -1,14 +1,19 @@
-"""Bad configs are refused by Snakemake before any job (`uavdamp.checks.validate`, tests/test_config.py).
+"""Bad configs are refused by Snakemake before any job (`uavdamp.config.checks.validate`, tests/test_config.py).
 
 Each case edits config/quick.yaml's merged config through one more --configfile; Snakemake must exit non-zero
-naming the key, start no job and leave the previous outputs untouched.
+naming the key, start no job and leave the previous outputs untouched. The refusal happens while Snakemake reads
+the Snakefile, before it builds a DAG, so every case runs as a dry run through Snakemake's own command line inside
+the test process (`conftest.snakemake_dry`: the same output, no interpreter start-up each); a few cases, one per
+layer of checks, also run as a real `snakemake` process that would start jobs if the refusal were missing.
 """
 
 from __future__ import annotations
 
 import pytest
 import yaml
-from conftest import copy_workflow, snakemake
+from conftest import copy_workflow, snakemake, snakemake_dry
+
+pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
 # (override merged over quick.yaml, text the error must contain): the same refusals as tests/test_config.py
 
@@ -123,12 +128,7 @@ def workdir(tmp_path_factory):
     return work
 
 
-@pytest.mark.parametrize("case", sorted(BAD))
-def test_snakemake_refuses_before_any_job(workdir, case):
-    """Through Snakemake: non-zero exit naming the key, no job started, the previous output untouched."""
-    override, message = BAD[case]
-    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump(override))
-    result = snakemake(workdir, "-j1", "all", "--configfile", "config/quick.yaml", "config/bad.yaml", timeout=300)
+def _assert_refused_before_any_job(workdir, result, message):
     output = result.stdout + result.stderr
     assert result.returncode != 0, output[-2000:]
     assert message in output, output[-3000:]
@@ -138,20 +138,43 @@ def test_snakemake_refuses_before_any_job(workdir, case):
     assert (workdir / "reports-quick/study/comparison.nc").read_text() == "previous good result"
 
 
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_snakemake_refuses_before_any_job(workdir, case):
+    """Through Snakemake (a dry run in-process): non-zero exit naming the key, no DAG built, no job, the previous
+    output untouched."""
+    override, message = BAD[case]
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump(override))
+    result = snakemake_dry(workdir, "-n", "-j1", "all", "--configfile", "config/quick.yaml", "config/bad.yaml")
+    _assert_refused_before_any_job(workdir, result, BAD[case][1])
+
+
+# one case per layer of checks: the typed load, the schema's ranges, the cross-section rules
+REAL_RUN = ["n-chunks-as-float", "rotor-speed-zero", "helicopter-run-shorter-than-the-study"]
+
+
+@pytest.mark.parametrize("case", REAL_RUN)
+def test_a_real_run_is_refused_before_any_job(workdir, case):
+    """A `snakemake` process without -n (it would start jobs): refused as the dry run is, nothing written."""
+    override, message = BAD[case]
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump(override))
+    result = snakemake(workdir, "-j1", "all", "--configfile", "config/quick.yaml", "config/bad.yaml", timeout=300)
+    _assert_refused_before_any_job(workdir, result, message)
+
+
 def test_the_plan_and_its_cost_are_printed_before_any_job(tmp_path):
     """A dry run shows the counts and the CPU estimate: 3 x 3 x 2 x 4 grid points, 3 helicopter runs of 4 s, the
     sensitivity runs (8 of 2 s) and the 2 flight runs, each counted as 5 vacuum seconds (budget.FLIGHT_COST) per
     simulated second of trim (1 s + 12 phases of 0.3 s and two 0.1415 s revolutions), release (1.5 s) and record
     (4 s): 2 x 67.48 s; 3 cases x 2 K x (5 strategies + 5 candidates + 20 refinements) study runs."""
     work = copy_workflow(tmp_path)
-    result = snakemake(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml", timeout=300)
+    result = snakemake_dry(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml")
     assert result.returncode == 0, result.stderr[-2000:]
     assert "uavdamp plan: 72 grid points, 162.963 simulated s of helicopter, 180 study runs: about" in result.stderr
 
 
 def _refused(workdir, *args: str) -> str:
     """A dry run that must be refused before any job: its output."""
-    result = snakemake(workdir, "-n", "-j1", *args, timeout=300)
+    result = snakemake_dry(workdir, "-n", "-j1", *args)
     output = result.stdout + result.stderr
     assert result.returncode != 0, output[-2000:]
     assert "Building DAG" not in output and "rule " not in output, output[-2000:]
@@ -180,7 +203,7 @@ def test_the_benchmark_counts_in_the_budget_when_it_is_requested(workdir):
     """1.2 CPU min: the quick study fits, the study and the benchmark do not (tests/test_budget.py counts them)."""
     (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"budget": {"max_cpu_hours": 0.02}}))
     args = ("--configfile", "config/quick.yaml", "config/bad.yaml")
-    study = snakemake(workdir, "-n", "-j1", "all", *args, timeout=300)
+    study = snakemake_dry(workdir, "-n", "-j1", "all", *args)
     assert study.returncode == 0, study.stderr[-2000:]
     assert "benchmark runs" not in study.stderr
     output = _refused(workdir, "all", "benchmark", *args)
@@ -196,4 +219,18 @@ def test_a_key_typo_is_refused_in_a_few_lines_with_the_nearest_key(workdir):
         "(workflow/schemas/config.schema.yaml, config/README.md)"
     )
     assert message in output, output
-    assert len(output.strip().splitlines()) <= 15, output
+    # 15 lines from a new process, which prints two lines of Exudyn's import first; in-process they are not there
+    assert len(output.strip().splitlines()) <= 13, output
+
+
+def test_a_config_error_prints_its_message_alone_and_its_traceback_on_request(workdir, monkeypatch):
+    """The key and the rule it breaks, no frame of the checks; UAVDAMP_DEBUG=1 brings the frames back."""
+    (workdir / "config" / "bad.yaml").write_text(yaml.safe_dump({"study": {"passive_damping_n_s_m": -3.0}}))
+    args = ("all", "--configfile", "config/quick.yaml", "config/bad.yaml")
+    output = _refused(workdir, *args)
+    message = "config error: study.passive_damping_n_s_m: -3.0 is less than the minimum of 0"
+    assert message in output and "(traceback: UAVDAMP_DEBUG=1)" in output, output
+    assert 'File "' not in output and "Traceback" not in output, output
+    monkeypatch.setenv("UAVDAMP_DEBUG", "1")
+    output = _refused(workdir, *args)
+    assert 'uavdamp/config/checks.py", line' in output, output

@@ -11,13 +11,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import QUICK_RUN_ARGS, ROOT, copy_workflow, snakemake
+from conftest import QUICK_RUN_ARGS, ROOT, copy_workflow, snakemake_dry
 
 from uavdamp import io
 
 
+@pytest.mark.slow
 def test_snakemake_lint_clean(tmp_path):
-    result = snakemake(copy_workflow(tmp_path), "--lint", timeout=300)
+    result = snakemake_dry(copy_workflow(tmp_path), "--lint")
     assert result.returncode == 0, result.stdout + result.stderr
     assert "Lints for" not in result.stdout + result.stderr, result.stdout + result.stderr
 
@@ -61,14 +62,18 @@ def _bad(config: dict, path: list[str], value) -> dict:
     ],
     ids=["negative-mass", "wrong-type", "missing-key", "zero-step", "misspelt-key", "old-key-name"],
 )
+@pytest.mark.slow
 def test_bad_config_refused_before_any_job(tmp_path, path, value, named):
+    """A dry run in-process (`conftest.snakemake_dry`); tests/workflow/test_config_checks.py shows that a real run
+    is refused in the same way, before any job."""
     workdir = copy_workflow(tmp_path)
     config = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(_bad(config, path, value)))
-    result = snakemake(workdir, "-j1", "all", timeout=300)
+    result = snakemake_dry(workdir, "-n", "-j1", "all")
     output = result.stdout + result.stderr
     assert result.returncode != 0
     assert named in output, output[-2000:]
+    assert "Building DAG" not in output, output[-2000:]
     assert len(output.splitlines()) < 40, output  # a few lines naming the key, not a schema dump
     assert not (workdir / "reports").exists()
 
@@ -120,7 +125,7 @@ def test_config_edit_reruns_only_affected_rules(quick_run, tmp_path):
     config = {"helicopter": {"spectrum": {"min_omega_rad_s": 25.0}}}  # merged over the quick run's config files
     edited = quick_run / "config" / "edited.yaml"
     edited.write_text(yaml.safe_dump(config))
-    result = snakemake(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, "config/edited.yaml", timeout=300)
+    result = snakemake_dry(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, "config/edited.yaml")
     assert result.returncode == 0, result.stderr
     plan = result.stdout + result.stderr
     assert "helicopter_vibration" in plan

@@ -1,11 +1,15 @@
-"""Every output is requested by `rule all`: delete any one and the dry run plans the rule that rebuilds it."""
+"""Every output is requested by `rule all`: delete any one and the dry run plans the rule that rebuilds it.
+
+The dry runs go through Snakemake's command line inside the test process (`conftest.snakemake_dry`)."""
 
 from __future__ import annotations
 
 import os
 
 import pytest
-from conftest import QUICK_RUN_ARGS, planned_rules, snakemake
+from conftest import QUICK_RUN_ARGS, planned_rules, snakemake_dry
+
+pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
 # one output of each kind per producing rule (rule name, path under the quick run's folder)
 OUTPUTS = [
@@ -36,7 +40,7 @@ def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
     aside = target.with_name(target.name + ".aside")
     os.replace(target, aside)  # keeps the mtime, so putting it back restores the finished run
     try:
-        result = snakemake(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, timeout=300)
+        result = snakemake_dry(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS)
     finally:
         os.replace(aside, target)
     assert result.returncode == 0, result.stderr[-3000:]
@@ -44,6 +48,6 @@ def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
 
 
 def test_nothing_planned_after_a_complete_run(quick_run):
-    result = snakemake(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS, timeout=300)
+    result = snakemake_dry(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS)
     assert result.returncode == 0, result.stderr[-3000:]
     assert "Nothing to be done" in result.stdout + result.stderr, result.stdout[-3000:]

@@ -3,7 +3,8 @@
 workflow/rules/common.smk promises that a rule's params hold only what the rule uses, with sorted keys, so an
 edit reruns exactly the stages it affects (and those downstream of them) and reordering keys reruns nothing.
 Each case edits the quick run's merged config (quick.yaml and its plug-in override) and asks Snakemake for a
-dry run on the finished quick run.
+dry run on the finished quick run, through Snakemake's command line inside the test process
+(`conftest.snakemake_dry`: the same plan as a new `snakemake -n` process, without its start-up).
 """
 
 from __future__ import annotations
@@ -13,10 +14,12 @@ import copy
 import numpy as np
 import pytest
 import yaml
-from conftest import QUICK_RUN_ARGS, copy_workflow, quick_run_config, snakemake, with_plugin
+from conftest import QUICK_RUN_ARGS, copy_workflow, quick_run_config, snakemake, snakemake_dry, with_plugin
 from conftest import planned_rules as dry_run_rules
 
 from uavdamp import io
+
+pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
 FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study"}
 HELICOPTER_ALL = {
@@ -111,7 +114,7 @@ def planned_rules(workdir, config: dict) -> set[str]:
     quick run's merged config (`quick_run_config`) plans nothing."""
     edited = workdir / "config" / "edited.yaml"
     edited.write_text(yaml.safe_dump(config, sort_keys=False))
-    result = snakemake(workdir, "-n", "-j1", "all", "--configfile", str(edited.relative_to(workdir)), timeout=300)
+    result = snakemake_dry(workdir, "-n", "-j1", "all", "--configfile", str(edited.relative_to(workdir)))
     assert result.returncode == 0, result.stderr[-3000:]
     return dry_run_rules(result)
 
@@ -150,7 +153,7 @@ def test_the_anfis_threads_rerun_nothing(quick_run):
 
 
 # attrs that record when and how fast a file was made, not what it holds
-PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall_time_s"}
+PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall_time_s", "run_started"}
 
 
 def _attrs(attrs: dict, workdir) -> dict:

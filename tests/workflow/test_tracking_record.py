@@ -11,7 +11,7 @@ from conftest import quick_run_config
 
 def test_the_band_edge_record_counts_every_update_at_the_edge(quick_run):
     """At the edge: within one FFT bin of the band search, 1 / (window_s x zero_padding) Hz, of either end
-    (counted here from tracked_freq and the config, independently of uavdamp.study.at_band_edge)."""
+    (counted here from tracked_freq and the config, independently of uavdamp.study.comparison.at_band_edge)."""
     tracking = quick_run_config()["study"]["tracking"]
     low, high = tracking["min_freq_hz"], tracking["max_freq_hz"]
     tolerance = 1.0 / (tracking["window_s"] * tracking["zero_padding"])

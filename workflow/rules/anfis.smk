@@ -1,3 +1,6 @@
+digest("anfis", {"anfis": ANFIS, "target": REFERENCE_TARGET}, "reference_table")
+
+
 rule anfis:
     input:
         table=f"{OUT}/reference_table/table.nc",
@@ -11,21 +14,33 @@ rule anfis:
             f"{OUT}/anfis/rules.md",
             caption="../report/anfis_rules.rst",
             category="ANFIS",
+            subcategory="Model",
+            labels={"figure": "the rule base as a table"},
         ),
         membership=report(
             f"{OUT}/figures/anfis_membership.png",
             caption="../report/anfis_membership.rst",
             category="ANFIS",
+            subcategory="Model",
+            labels={"figure": "membership functions, trained and initial"},
         ),
         errors=report(
             f"{OUT}/figures/anfis_training.png",
             caption="../report/anfis_training.rst",
             category="ANFIS",
+            subcategory="Training",
+            labels={
+                "figure": "training and checking error per epoch; predicted against optimal C"
+            },
         ),
         selection=report(
             f"{OUT}/figures/anfis_selection.png",
             caption="../report/anfis_selection.rst",
             category="ANFIS",
+            subcategory="Training",
+            labels={
+                "figure": "structure chosen by cross-validation; against the baselines"
+            },
         ),
     log:
         f"{OUT}/logs/anfis.log",
@@ -35,6 +50,13 @@ rule anfis:
         ENV
     threads: config["anfis"]["threads"]
     params:
+        digest=DIGESTS["anfis"],
+        expects=expects(
+            {
+                f"{OUT}/reference_table/table.nc": "reference_table",
+                f"{OUT}/reference_table/grid.nc": "reference_table",
+            }
+        ),
         anfis=ANFIS,
         target=REFERENCE_TARGET,
     script:

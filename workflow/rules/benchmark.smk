@@ -1,8 +1,8 @@
 # The controller benchmark: one job per scenario input, tuning on the tuning set only (one job per stiffness),
 # one job per scenario running every controller, then a gather. Logic in src/uavdamp/{scenarios,benchmark}.py.
-from uavdamp.benchmark import BenchmarkOptions
-from uavdamp.scenarios import ScenarioOptions, flight_log_of, scenario_specs
-from uavdamp.scenarios import split as benchmark_split
+from uavdamp.benchmark.loop import BenchmarkOptions
+from uavdamp.benchmark.scenarios import ScenarioOptions, flight_log_of, scenario_specs
+from uavdamp.benchmark.scenarios import split as benchmark_split
 
 BENCHMARK = config["benchmark"]
 BENCHMARK_SCENARIOS = sorted(scenario_specs(TYPED.benchmark))
@@ -21,9 +21,12 @@ BENCHMARK_TUNED = expand(
     f"{OUT}/benchmark/tuned/K{{stiffness}}.nc", stiffness=BENCHMARK_STIFFNESS
 )
 BENCHMARK_TRACKING = canonical(config["study"]["tracking"])
-# the MR damper, built once (uavdamp.actuation.MRSpec): an input of the jobs that run it
+# the MR damper, built once (uavdamp.damping.actuation.MRSpec): an input of the jobs that run it
 BENCHMARK_MR = [f"{OUT}/benchmark/mr_damper.nc"] if "mr" in BENCHMARK["dampers"] else []
 BENCHMARK_CHECKED = list(BENCHMARK["step_check"]["scenarios"])
+
+
+digest("benchmark_mr_damper", {"mr": canonical(BENCHMARK["mr"])})
 
 
 rule benchmark_mr_damper:
@@ -36,9 +39,28 @@ rule benchmark_mr_damper:
     conda:
         ENV
     params:
+        digest=DIGESTS["benchmark_mr_damper"],
         mr=canonical(BENCHMARK["mr"]),
     script:
         "../scripts/benchmark_mr_damper.py"
+
+
+for _s in BENCHMARK_SCENARIOS:
+    _log = flight_log_of(TYPED.benchmark, _s)
+    digest(
+        f"benchmark_scenario:{_s}",
+        {
+            "inputs": BENCHMARK_INPUTS,
+            "helicopter": FLIGHT_RUN,
+            "platform": PLATFORM_MODEL,
+            "source": canonical(
+                config["sources"].get(_s, {})
+                if _s in BENCHMARK.get("sources", [])
+                else {}
+            ),
+        },
+        *([f"flight_log:{_log}"] if _log else []),
+    )
 
 
 rule benchmark_scenario:
@@ -59,11 +81,39 @@ rule benchmark_scenario:
     conda:
         ENV
     params:
+        digest=lambda wc: DIGESTS[f"benchmark_scenario:{wc.scenario}"],
+        expects=lambda wc: expects(
+            {
+                f"{OUT}/flight_logs/{name}.nc": f"flight_log:{name}"
+                for name in [flight_log_of(TYPED.benchmark, wc.scenario)]
+                if name
+            }
+        ),
         inputs=BENCHMARK_INPUTS,
         helicopter=FLIGHT_RUN,
         platform=PLATFORM_MODEL,
+        # a stated source's own keys (sources.NAME) for a source scenario, {} for the others
+        source=lambda wc: canonical(
+            config["sources"][wc.scenario]
+            if wc.scenario in BENCHMARK.get("sources", [])
+            else {}
+        ),
     script:
         "../scripts/benchmark_scenario.py"
+
+
+digest(
+    "benchmark_tune",
+    {
+        "runs": BENCHMARK_RUNS,
+        "tracking": BENCHMARK_TRACKING,
+        "camera": CAMERA,
+        "platform": PLATFORM_MODEL,
+        "plugins": PLUGINS,
+    },
+    *[f"benchmark_scenario:{s}" for s in BENCHMARK_TUNING],
+    *(["benchmark_mr_damper"] if BENCHMARK_MR else []),
+)
 
 
 rule benchmark_tune:
@@ -72,6 +122,7 @@ rule benchmark_tune:
             f"{OUT}/benchmark/scenarios/{{scenario}}.nc", scenario=BENCHMARK_TUNING
         ),
         plugins=PLUGINS,
+        plugin_data=PLUGIN_DATA,
         mr=BENCHMARK_MR,
     output:
         f"{OUT}/benchmark/tuned/K{{stiffness}}.nc",
@@ -84,12 +135,41 @@ rule benchmark_tune:
     conda:
         ENV
     params:
+        digest=DIGESTS["benchmark_tune"],
+        expects=expects(
+            {
+                **{
+                    f"{OUT}/benchmark/scenarios/{s}.nc": f"benchmark_scenario:{s}"
+                    for s in BENCHMARK_TUNING
+                },
+                **{path: "benchmark_mr_damper" for path in BENCHMARK_MR},
+            }
+        ),
         runs=BENCHMARK_RUNS,
         tracking=BENCHMARK_TRACKING,
         camera=CAMERA,
         platform=PLATFORM_MODEL,
     script:
         "../scripts/benchmark_tune.py"
+
+
+for _s in BENCHMARK_SCENARIOS:
+    digest(
+        f"benchmark_run:{_s}",
+        {
+            "runs": BENCHMARK_RUNS,
+            "tracking": BENCHMARK_TRACKING,
+            "camera": CAMERA,
+            "platform": PLATFORM_MODEL,
+            "step_check": _s in BENCHMARK_CHECKED,
+            "plugins": PLUGINS,
+        },
+        f"benchmark_scenario:{_s}",
+        "benchmark_tune",
+        "anfis",
+        "reference_table",
+        *(["benchmark_mr_damper"] if BENCHMARK_MR else []),
+    )
 
 
 rule benchmark_run:
@@ -99,6 +179,7 @@ rule benchmark_run:
         model=f"{OUT}/anfis/model.nc",
         table=f"{OUT}/reference_table/table.nc",
         plugins=PLUGINS,
+        plugin_data=PLUGIN_DATA,
         mr=BENCHMARK_MR,
     output:
         f"{OUT}/benchmark/runs/{{scenario}}.nc",
@@ -111,6 +192,16 @@ rule benchmark_run:
     conda:
         ENV
     params:
+        digest=lambda wc: DIGESTS[f"benchmark_run:{wc.scenario}"],
+        expects=lambda wc: expects(
+            {
+                f"{OUT}/benchmark/scenarios/{wc.scenario}.nc": f"benchmark_scenario:{wc.scenario}",
+                **{path: "benchmark_tune" for path in BENCHMARK_TUNED},
+                f"{OUT}/anfis/model.nc": "anfis",
+                f"{OUT}/reference_table/table.nc": "reference_table",
+                **{path: "benchmark_mr_damper" for path in BENCHMARK_MR},
+            }
+        ),
         runs=BENCHMARK_RUNS,
         tracking=BENCHMARK_TRACKING,
         camera=CAMERA,
@@ -120,6 +211,18 @@ rule benchmark_run:
         "../scripts/benchmark_run.py"
 
 
+digest(
+    "benchmark_gather",
+    {
+        "split": BENCHMARK_SPLIT,
+        "runs": BENCHMARK_RUNS,
+        "extrapolation": EXTRAPOLATION["benchmark"],
+    },
+    *[f"benchmark_run:{s}" for s in BENCHMARK_SCENARIOS],
+    "benchmark_tune",
+)
+
+
 rule benchmark_gather:
     input:
         runs=expand(
@@ -127,6 +230,7 @@ rule benchmark_gather:
         ),
         tuned=BENCHMARK_TUNED,
         plugins=PLUGINS,
+        plugin_data=PLUGIN_DATA,
     output:
         criteria=f"{OUT}/benchmark/criteria.nc",
         table=f"{OUT}/benchmark/table.md",
@@ -134,11 +238,15 @@ rule benchmark_gather:
             f"{OUT}/figures/benchmark_criteria.png",
             caption="../report/benchmark_criteria.rst",
             category="Benchmark",
+            subcategory="Criteria",
+            labels={"figure": "mean and worst J per controller and criterion"},
         ),
         boxplots=report(
             f"{OUT}/figures/benchmark_boxplots.png",
             caption="../report/benchmark_boxplots.rst",
             category="Benchmark",
+            subcategory="Criteria",
+            labels={"figure": "J over the evaluation scenarios per controller"},
         ),
     log:
         f"{OUT}/logs/benchmark_gather.log",
@@ -147,6 +255,16 @@ rule benchmark_gather:
     conda:
         ENV
     params:
+        digest=DIGESTS["benchmark_gather"],
+        expects=expects(
+            {
+                **{
+                    f"{OUT}/benchmark/runs/{s}.nc": f"benchmark_run:{s}"
+                    for s in BENCHMARK_SCENARIOS
+                },
+                **{path: "benchmark_tune" for path in BENCHMARK_TUNED},
+            }
+        ),
         split=BENCHMARK_SPLIT,
         runs=BENCHMARK_RUNS,
         extrapolation=EXTRAPOLATION["benchmark"],

@@ -1,10 +1,13 @@
 HELICOPTER_SENSITIVITY = config["helicopter"]["sensitivity"]
-# one run per value: "baseline" and "<parameter>=<value>" (uavdamp.sensitivity.parse_run_name reads them)
+# one run per value: "baseline" and "<parameter>=<value>" (uavdamp.helicopter.sensitivity.parse_run_name reads them)
 SENSITIVITY_RUNS = ["baseline"] + [
     f"{parameter}={float(value):g}"
     for parameter, values in HELICOPTER_SENSITIVITY["parameters"].items()
     for value in values
 ]
+
+
+digest("helicopter_run", {"helicopter": HELICOPTER_RUN})
 
 
 rule helicopter_run:
@@ -19,9 +22,13 @@ rule helicopter_run:
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_run"],
         helicopter=HELICOPTER_RUN,
     script:
         "../scripts/helicopter_run.py"
+
+
+digest("helicopter_flight", {"helicopter": FLIGHT_RUN})
 
 
 rule helicopter_flight:
@@ -37,9 +44,17 @@ rule helicopter_flight:
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_flight"],
         helicopter=FLIGHT_RUN,
     script:
         "../scripts/helicopter_flight.py"
+
+
+digest(
+    "helicopter_trim",
+    {"helicopter": FLIGHT_RUN, "flights": FLIGHT_RUNS},
+    "helicopter_flight",
+)
 
 
 rule helicopter_trim:
@@ -52,10 +67,28 @@ rule helicopter_trim:
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_trim"],
+        expects=expects(
+            {
+                f"{OUT}/helicopter/trims/{f}.nc": "helicopter_flight"
+                for f in FLIGHT_RUNS
+            }
+        ),
         helicopter=FLIGHT_RUN,
         flights=FLIGHT_RUNS,
     script:
         "../scripts/helicopter_trim.py"
+
+
+digest(
+    "helicopter_vibration",
+    {
+        "helicopter": HELICOPTER_RUN,
+        "spectrum": canonical(config["helicopter"]["spectrum"]),
+        "rotors": ROTORS,
+    },
+    *{RUN_RULE[r] for r in ROTORS},
+)
 
 
 rule helicopter_vibration:
@@ -67,17 +100,32 @@ rule helicopter_vibration:
             f"{OUT}/figures/fuselage_vibration.png",
             caption="../report/fuselage_vibration.rst",
             category="Helicopter",
+            subcategory="Vibration",
+            labels={
+                "figure": "the fuselage's motion at the mount and its spectra (the paper's Fig. 3)"
+            },
         ),
     log:
         f"{OUT}/logs/helicopter_vibration.log",
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_vibration"],
+        expects=expects({f"{OUT}/helicopter/runs/{r}.nc": RUN_RULE[r] for r in ROTORS}),
         helicopter=HELICOPTER_RUN,
         spectrum=canonical(config["helicopter"]["spectrum"]),
         rotors=ROTORS,
     script:
         "../scripts/helicopter_vibration.py"
+
+
+digest(
+    "helicopter_campbell",
+    {
+        "helicopter": HELICOPTER_RUN,
+        "campbell": canonical(config["helicopter"]["campbell"]),
+    },
+)
 
 
 rule helicopter_campbell:
@@ -87,6 +135,8 @@ rule helicopter_campbell:
             f"{OUT}/figures/helicopter_campbell.png",
             caption="../report/helicopter_campbell.rst",
             category="Helicopter",
+            subcategory="Modes",
+            labels={"figure": "Campbell diagram of the balanced helicopter"},
         ),
     log:
         f"{OUT}/logs/helicopter_campbell.log",
@@ -95,10 +145,25 @@ rule helicopter_campbell:
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_campbell"],
         helicopter=HELICOPTER_RUN,
         campbell=canonical(config["helicopter"]["campbell"]),
     script:
         "../scripts/helicopter_campbell.py"
+
+
+digest(
+    "helicopter_sensitivity_run",
+    {
+        "helicopter": (
+            HELICOPTER_RUN
+            if HELICOPTER_SENSITIVITY["flight"] == "vacuum"
+            else FLIGHT_RUN
+        ),
+        "duration_s": HELICOPTER_SENSITIVITY["duration_s"],
+        "flight": HELICOPTER_SENSITIVITY["flight"],
+    },
+)
 
 
 rule helicopter_sensitivity_run:
@@ -113,6 +178,7 @@ rule helicopter_sensitivity_run:
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_sensitivity_run"],
         helicopter=(
             HELICOPTER_RUN
             if HELICOPTER_SENSITIVITY["flight"] == "vacuum"
@@ -124,6 +190,17 @@ rule helicopter_sensitivity_run:
         "../scripts/helicopter_sensitivity_run.py"
 
 
+digest(
+    "helicopter_sensitivity",
+    {
+        "sensitivity": canonical(HELICOPTER_SENSITIVITY),
+        "spectrum": canonical(config["helicopter"]["spectrum"]),
+        "helicopter": HELICOPTER_RUN,
+    },
+    "helicopter_sensitivity_run",
+)
+
+
 rule helicopter_sensitivity:
     input:
         runs=expand(f"{OUT}/helicopter/sensitivity/{{run}}.nc", run=SENSITIVITY_RUNS),
@@ -133,12 +210,21 @@ rule helicopter_sensitivity:
             f"{OUT}/figures/helicopter_sensitivity.png",
             caption="../report/helicopter_sensitivity.rst",
             category="Helicopter",
+            subcategory="Sensitivity",
+            labels={"figure": "dominant lines against each uncertain parameter"},
         ),
     log:
         f"{OUT}/logs/helicopter_sensitivity.log",
     conda:
         ENV
     params:
+        digest=DIGESTS["helicopter_sensitivity"],
+        expects=expects(
+            {
+                f"{OUT}/helicopter/sensitivity/{r}.nc": "helicopter_sensitivity_run"
+                for r in SENSITIVITY_RUNS
+            }
+        ),
         sensitivity=canonical(HELICOPTER_SENSITIVITY),
         spectrum=canonical(config["helicopter"]["spectrum"]),
         helicopter=HELICOPTER_RUN,

@@ -1,3 +1,6 @@
+digest("platform_modes", {"platform": PLATFORM})
+
+
 rule platform_modes:
     output:
         modes=f"{OUT}/platform/modes.nc",
@@ -5,6 +8,8 @@ rule platform_modes:
             f"{OUT}/figures/platform_response.png",
             caption="../report/platform_response.rst",
             category="Platform",
+            subcategory="Response",
+            labels={"figure": "the platform's response to a sine input"},
         ),
     log:
         f"{OUT}/logs/platform_modes.log",
@@ -13,6 +18,7 @@ rule platform_modes:
     conda:
         ENV
     params:
+        digest=DIGESTS["platform_modes"],
         platform=PLATFORM,
     script:
         "../scripts/platform_modes.py"

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from uavdamp import anfis, io, workflow
+from uavdamp import anfis, integrity, io, workflow
 from uavdamp.anfis.fis import to_fis
 from uavdamp.anfis.rules import rules_markdown
 from uavdamp.anfis.training import INPUTS
@@ -10,6 +10,7 @@ from uavdamp.plots.anfis import membership_figure, selection_figure, training_fi
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 config = snakemake.params.anfis
 options = parse(anfis.AnfisOptions, config, "anfis")
 table, grid = io.open_dataset(snakemake.input.table), io.open_dataset(snakemake.input.grid)
@@ -48,12 +49,13 @@ rules = model.rules_text()
 workflow.log_info("rules:\n" + rules)
 cells = np.column_stack([record[name].values for name in INPUTS])
 command = workflow.snakemake_command(snakemake)
-io.save_figure(membership_figure(model), snakemake.output.membership)
-io.save_figure(training_figure(record), snakemake.output.errors)
-io.save_figure(selection_figure(record), snakemake.output.selection)
-io.write_text(rules + "\n", snakemake.output.rules)
-title = f"ANFIS rule base: optimal C, {criterion} criterion, {window} window"
-io.write_text(rules_markdown(model, cells, title), snakemake.output.table)
-io.write_text(to_fis(model), snakemake.output.fis)
-io.write_netcdf(record, snakemake.output.training, config, section="anfis", command=command)
-io.write_netcdf(model.to_dataset(), snakemake.output.model, config, section="anfis", command=command)
+with job.writing():  # under the output's lock; a later run's output is never replaced
+    io.save_figure(membership_figure(model), snakemake.output.membership)
+    io.save_figure(training_figure(record), snakemake.output.errors)
+    io.save_figure(selection_figure(record), snakemake.output.selection)
+    io.write_text(rules + "\n", snakemake.output.rules)
+    title = f"ANFIS rule base: optimal C, {criterion} criterion, {window} window"
+    io.write_text(rules_markdown(model, cells, title), snakemake.output.table)
+    io.write_text(to_fis(model), snakemake.output.fis)
+    io.write_netcdf(record, snakemake.output.training, config, section="anfis", command=command)
+    io.write_netcdf(model.to_dataset(), snakemake.output.model, config, section="anfis", command=command)

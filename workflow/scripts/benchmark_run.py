@@ -1,12 +1,15 @@
 """Snakemake script: every benchmark controller on one scenario (wildcard `scenario`) -> its criteria."""
 
-from uavdamp import actuation, benchmark, io, workflow
+from uavdamp import integrity, io, workflow
 from uavdamp.anfis import DampingModel
-from uavdamp.config import benchmark_options
+from uavdamp.benchmark import loop as benchmark
+from uavdamp.config.load import benchmark_options
+from uavdamp.damping import actuation
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
@@ -28,6 +31,7 @@ def make() -> None:
     )
     for damper in ds.damper.values:
         workflow.log_info(f"{damper}:\n" + ds.J.sel(damper=damper).to_dataframe().J.unstack("criterion").to_string())
+    job.check_outputs()  # under the lock: a later run's output is never replaced
     io.write_netcdf(ds, snakemake.output[0], config, section="benchmark", command=workflow.snakemake_command(snakemake))
 
 

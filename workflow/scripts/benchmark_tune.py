@@ -4,12 +4,15 @@ only -> tuned/K<stiffness>.nc."""
 import dataclasses
 from pathlib import Path
 
-from uavdamp import actuation, benchmark, io, workflow
-from uavdamp.config import benchmark_options
+from uavdamp import integrity, io, workflow
+from uavdamp.benchmark import loop as benchmark
+from uavdamp.config.load import benchmark_options
+from uavdamp.damping import actuation
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 workflow.load_plugins(snakemake)  # before any strategy is named
 p = snakemake.params
 options = benchmark_options(p.runs, p.tracking, p.camera)
@@ -22,6 +25,7 @@ def make() -> None:
     mr = actuation.MRSpec.from_dataset(io.open_dataset(snakemake.input.mr[0])) if snakemake.input.mr else None
     tuned = benchmark.tune(inputs, parse(PlatformParams, p.platform, "platform"), options, mr=mr)
     workflow.log_info(f"tuned on {sorted(inputs)}:\n{tuned.to_dataframe().to_string()}")
+    job.check_outputs()  # under the lock: a later run's output is never replaced
     command = workflow.snakemake_command(snakemake)
     io.write_netcdf(tuned, snakemake.output[0], config, section="benchmark", command=command)
 

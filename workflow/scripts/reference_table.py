@@ -2,14 +2,15 @@
 
 import os
 
-from uavdamp import io, workflow
-from uavdamp.camera import CameraOptics
+from uavdamp import integrity, io, workflow
+from uavdamp.camera.optics import CameraOptics
 from uavdamp.platform import PlatformParams
 from uavdamp.plots.reference_table import criteria_figure, reference_table_figure
 from uavdamp.reference_table import GridSpec, ReferenceGrid, VerifyOptions, chunks, criteria, grid, verify
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 p = snakemake.params
 spec = GridSpec.of(parse(ReferenceGrid, p.grid, "reference_table"), parse(CameraOptics, p.camera, "camera"))
 platform = parse(PlatformParams, p.platform, "platform")
@@ -37,9 +38,10 @@ workflow.log_info(
     f"(tolerance {check.tolerance})"
 )
 verify.check_verification(spec, checked, check.tolerance)  # raises VerificationFailed naming the worst point
-table = criteria.reference_table(full, p.flat_tolerance)
+table = criteria.reference_table(full, p.flat_tolerance, (platform.damping_min, platform.damping_max))
 chosen = criteria.select_table(table, criterion, window)
-table.attrs.update(plant=full.attrs["plant"], criterion=criterion, window=window)
+share = float(chosen.grid_edge_share)  # the ANFIS refuses a table whose learnt optimum sits on a grid edge
+table.attrs.update(plant=full.attrs["plant"], criterion=criterion, window=window, grid_edge_share=share)
 for name in table.criterion.values:
     for w in table.window.values:
         part = table.sel(criterion=name, window=w)
@@ -48,7 +50,10 @@ for name in table.criterion.values:
             f"{part.damping_opt_spread.values.round(2).tolist()}; scheduling gain per stiffness "
             f"{part.scheduling_gain.values.round(3).tolist()}"
         )
-workflow.log_info(f"the ANFIS learns: {criterion}, {window} window")
+workflow.log_info(
+    f"the ANFIS learns: {criterion}, {window} window; optimum on an edge of the C grid inside the damper's range: "
+    f"{share:.2%} of the cells, at the damper's bound: {float((chosen.optimum_at_grid_edge == 3).mean()):.2%}"
+)
 config = {
     "reference_table": {**p.grid, "criterion": criterion, "window": window},
     "flat_tolerance": p.flat_tolerance,
@@ -57,7 +62,8 @@ config = {
     "platform": p.platform,
 }
 command = workflow.snakemake_command(snakemake)
-io.save_figure(reference_table_figure(chosen), snakemake.output.figure)
-io.save_figure(criteria_figure(table), snakemake.output.criteria)
-io.write_netcdf(full, snakemake.output.grid, config, section="reference_table", command=command)
-io.write_netcdf(table, snakemake.output.table, config, section="reference_table", command=command)
+with job.writing():  # under the output's lock; a later run's output is never replaced
+    io.save_figure(reference_table_figure(chosen), snakemake.output.figure)
+    io.save_figure(criteria_figure(table), snakemake.output.criteria)
+    io.write_netcdf(full, snakemake.output.grid, config, section="reference_table", command=command)
+    io.write_netcdf(table, snakemake.output.table, config, section="reference_table", command=command)

@@ -3,13 +3,14 @@
 import os
 from functools import partial
 
-from uavdamp import io, workflow
-from uavdamp.camera import CameraOptics
+from uavdamp import integrity, io, workflow
+from uavdamp.camera.optics import CameraOptics
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import GridSpec, ReferenceGrid, chunks, grid
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 p = snakemake.params
 item = snakemake.wildcards.scatteritem  # "i-of-N"
 chunk, n_chunks = (int(v) for v in item.split("-of-"))
@@ -30,6 +31,7 @@ def make() -> None:
         f"plant {ds.attrs['solver_time_s']:.2f} s, workers {ds.attrs['worker_time_s']:.2f} s, "
         f"wall {ds.attrs['wall_time_s']:.2f} s"
     )
+    job.check_outputs()  # under the lock: a later run's output is never replaced
     command = workflow.snakemake_command(snakemake)
     io.write_netcdf(ds, snakemake.output[0], config, section="reference_table", command=command)
 

@@ -1,6 +1,6 @@
 """Snakemake script: the stroke budget of the reference table's optimum per (f_y, f_z, K) -> stroke.nc."""
 
-from uavdamp import io, workflow
+from uavdamp import integrity, io, workflow
 from uavdamp.platform import LinearPlant, PlatformParams
 from uavdamp.platform.params import StrokeBudget
 from uavdamp.platform.stroke import table_stroke_budget
@@ -8,6 +8,7 @@ from uavdamp.reference_table import criteria
 from uavdamp.settings import parse
 
 workflow.start_log(snakemake.log[0])
+job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 p = snakemake.params
 platform = parse(PlatformParams, p.platform, "platform")
 budget = parse(StrokeBudget, p.stroke, "platform.stroke")
@@ -23,4 +24,5 @@ workflow.log_info(
 )
 config = {"platform": {**p.platform, "stroke": p.stroke}, "reference_table": {"amplitude_m": p.amplitude}}
 command = workflow.snakemake_command(snakemake)
-io.write_netcdf(ds, snakemake.output[0], config, section="reference_table", command=command)
+with job.writing():  # under the output's lock; a later run's output is never replaced
+    io.write_netcdf(ds, snakemake.output[0], config, section="reference_table", command=command)

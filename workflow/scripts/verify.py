@@ -1,4 +1,5 @@
-"""Snakemake script: every NetCDF under the output folder read whole (`uavdamp.verify`): the report on the terminal
+"""Snakemake script: every NetCDF under the output folder read whole (`uavdamp.results.verify`): the report on the
+terminal
 and in the log; the job fails if a file is corrupt."""
 
 import contextlib
@@ -6,7 +7,7 @@ import io
 import sys
 from pathlib import Path
 
-from uavdamp import verify
+from uavdamp.results import verify
 
 report = io.StringIO()
 with contextlib.redirect_stdout(report):

@@ -11,7 +11,7 @@ Training (``fit``), once per epoch: the consequents by least squares on the whol
 premise parameters (every c and sigma) one step along the normalised gradient of the squared error,
 step = step_size * g / ||g||, with the step size adapted as in MATLAB's ``anfis``
 (see ``update_step_size``). Rules start from a grid partition, fuzzy c-means or subtractive
-clustering (``uavdamp.anfis_init``).
+clustering (``uavdamp.anfis.initialisation``).
 
 ``ANFIS`` is a scikit-learn regressor (``BaseEstimator``, ``RegressorMixin``, scikit-learn's input
 validation and tags): ``clone``, ``Pipeline``, ``GridSearchCV`` and ``cross_val_score`` work, and it
@@ -341,7 +341,7 @@ class ANFIS(RegressorMixin, BaseEstimator):
     # -- persistence ---------------------------------------------------------------------------
 
     def to_dataset(self) -> xr.Dataset:
-        """The fitted model as an xarray.Dataset (see ``uavdamp.anfis_dataset.to_dataset``)."""
+        """The fitted model as an xarray.Dataset (see ``uavdamp.anfis.netcdf.to_dataset``)."""
         self._check_fitted()
         return anfis_dataset.to_dataset(self)
 

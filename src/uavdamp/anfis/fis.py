@@ -45,13 +45,18 @@ A constant input (zero training range) is refused: MATLAB requires Range(1) < Ra
 ANFIS ignores such an input anyway. ``from_fis`` refuses, naming the section and line, what the
 ANFIS cannot represent: a type other than sugeno, AND other than prod, a defuzzifier other than
 wtaver, MFs other than gaussmf (inputs) or linear/constant (output), OR rules, rule weights other
-than 1, "don't care" (0) or NOT (negative) antecedents, more than one output.
+than 1, "don't care" (0) or NOT (negative) antecedents, more than one output; and what would change the file's
+meaning unnoticed: a key (or the names comment) given twice, a variable name outside the transforms above (a
+``log10_`` name without its unit suffix; with the names comment, any name other than the one ``to_fis`` writes for
+it, e.g. ``K_N_m`` for ``log10_K``), and a rule whose output over the input Ranges is not finite (10**it for a
+``log10_`` output). ``read_fis(path)`` prefixes every such error with the file.
 """
 
 from __future__ import annotations
 
 import json
 import re
+from pathlib import Path
 
 import numpy as np
 
@@ -59,7 +64,7 @@ from uavdamp.anfis._math import _incidence
 from uavdamp.anfis.damping import DampingModel
 from uavdamp.anfis.estimator import ANFIS
 
-__all__ = ["to_fis", "from_fis"]
+__all__ = ["to_fis", "from_fis", "read_fis"]
 
 NAMES_TAG = "% uavdamp-names:"
 LOG = "log10_"
@@ -192,10 +197,13 @@ def to_fis(model, name: str = "uavdamp_anfis") -> str:
 def _sections(text: str) -> tuple[dict[str, list[tuple[int, str]]], dict | None]:
     """Section name -> its (line number, content) lines; the ``uavdamp-names`` JSON (or None)."""
     sections: dict[str, list[tuple[int, str]]] = {}
-    current, names = None, None
+    current, names, names_line = None, None, None
     for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.strip()
         if line.startswith(NAMES_TAG):
+            if names_line is not None:
+                raise ValueError(f"line {number}: a second {NAMES_TAG} line (first at line {names_line})")
+            names_line = number
             try:
                 names = json.loads(line[len(NAMES_TAG) :])
             except json.JSONDecodeError as err:
@@ -224,6 +232,11 @@ def _keys(sections, section: str) -> dict[str, tuple[int, str]]:
         key, sep, value = line.partition("=")
         if not sep:
             raise ValueError(f"[{section}] line {number}: expected key=value, got {line!r}")
+        if key.strip() in out:
+            raise ValueError(
+                f"[{section}] line {number}: {key.strip()} appears twice (first at line {out[key.strip()][0]}): "
+                "which one the file means is ambiguous"
+            )
         out[key.strip()] = (number, value.strip())
     return out
 
@@ -259,8 +272,8 @@ def _parse_vector(value: str, where: str, what: str) -> np.ndarray:
     return out
 
 
-def _variable(sections, section: str, mf_types: tuple[str, ...], n_params: int) -> tuple[str, np.ndarray, list]:
-    """(Name, Range, [(type, params)] per MF) of an [InputN] or [OutputN] section, checked."""
+def _variable(sections, section: str, mf_types: tuple[str, ...], n_params: int) -> tuple[str, np.ndarray, list, dict]:
+    """(Name, Range, [(type, params)] per MF, key -> line number) of an [InputN] or [OutputN] section, checked."""
     keys = _keys(sections, section)
     name, rng = _get(keys, section, "Name", "str"), _get(keys, section, "Range", "vector")
     if rng.size != 2 or not rng[0] < rng[1]:
@@ -281,7 +294,7 @@ def _variable(sections, section: str, mf_types: tuple[str, ...], n_params: int) 
         if params.size != size:
             raise ValueError(f"{where}: {mf_type} needs {size} parameters, got {params.size}")
         mfs.append((mf_type, params))
-    return name, rng, mfs
+    return name, rng, mfs, {key: number for key, (number, _) in keys.items()}
 
 
 def _rules(sections, n_mfs: list[int], n_out: int) -> np.ndarray:
@@ -347,20 +360,90 @@ def _names(fis_names: list[str], names: dict | None) -> tuple[list[list[str]], l
     return inputs, output
 
 
-def from_fis(text: str) -> DampingModel:
-    """The ``DampingModel`` of a ``.fis`` text written by ``to_fis`` (or any file it can represent; see module doc)."""
+def _check_names(fis_names: list[str], lines: list[int], names: dict | None, inputs, output) -> None:
+    """Refuse a variable name outside the documented transforms: a ``log10_`` name without its unit suffix, or,
+    with the names comment, a name other than the one ``to_fis`` writes for that comment's name and unit."""
+    d = len(fis_names) - 1
+    for i, (fis, number) in enumerate(zip(fis_names, lines, strict=True)):
+        section, kind = (f"Input{i + 1}", "input") if i < d else ("Output1", "output")
+        where = f"[{section}] line {number}"
+        suffix = "_" + _slug(LOG_UNITS[kind])
+        if fis.startswith(LOG) and not fis.endswith(suffix):
+            raise ValueError(
+                f"{where}: Name='{fis}' is log-transformed but lacks the unit suffix {suffix!r} "
+                f"(documented: log10_<name>{suffix}, the log10 of the quantity in {LOG_UNITS[kind]})"
+            )
+        if names is None:
+            continue
+        name, unit = inputs[i] if i < d else output
+        log = name.startswith(LOG)  # the ANFIS learns log10 of this variable (a DampingModel's transform)
+        try:
+            expected = _fis_name(name, unit, log, LOG_UNITS[kind], f"{kind} {i + 1}")[0]
+        except ValueError:
+            expected = None
+        if fis != expected:
+            transform = "its log10" if log else "the quantity itself"
+            raise ValueError(
+                f"{where}: Name='{fis}' does not match {NAMES_TAG} {name!r} ({unit}), whose documented name is "
+                f"'{expected}' ({transform}): an edited name changes what the file computes; refused"
+            )
+
+
+def _check_finite(est: ANFIS, log_c: bool, rules: np.ndarray, out_lines: dict, rule_lines: list[int]) -> None:
+    """Refuse a rule whose output (its linear consequent over the input Ranges; 10**it for a log10 output) is not
+    finite: the model would predict inf or NaN there."""
+    lo, hi = est.input_range_[:, 0], est.input_range_[:, 1]
+    coef, const = est.consequents_[:, :-1], est.consequents_[:, -1]
+    with np.errstate(over="ignore", invalid="ignore"):
+        low = const + np.minimum(coef * lo, coef * hi).sum(axis=1)
+        high = const + np.maximum(coef * lo, coef * hi).sum(axis=1)
+        bad = ~(np.isfinite(low) & np.isfinite(high))
+        if log_c:
+            bad |= ~np.isfinite(10.0**high)
+    if bad.any():
+        r = int(np.flatnonzero(bad)[0])
+        k = int(rules[r, -1]) + 1
+        scale = "10**" if log_c else ""
+        raise ValueError(
+            f"[Output1] line {out_lines[f'MF{k}']}: MF{k} of rule {r + 1} ([Rules] line {rule_lines[r]}) gives a "
+            f"non-finite prediction over the inputs' Ranges (output {scale}[{low[r]:.6g}, {high[r]:.6g}]): refused"
+        )
+
+
+def from_fis(text: str, source: str | None = None) -> DampingModel:
+    """The ``DampingModel`` of a ``.fis`` text written by ``to_fis`` (or any file it can represent; see module doc).
+
+    ValueError naming the section and line (prefixed by `source`, the file, when given) of anything it cannot
+    represent, a duplicated key, a name outside the documented transforms or a rule predicting a non-finite value.
+    """
+    try:
+        return _from_fis(text)
+    except ValueError as error:
+        if source is None:
+            raise
+        raise ValueError(f"{source}: {error}") from None
+
+
+def read_fis(path) -> DampingModel:
+    """``from_fis`` of the file at `path` (errors name it)."""
+    return from_fis(Path(path).read_text(), source=str(path))
+
+
+def _from_fis(text: str) -> DampingModel:
     sections, names = _sections(text)
     d, n_rules = _check_system(sections)
-    fis_names, ranges, mfs = [], [], []
+    fis_names, ranges, mfs, name_lines = [], [], [], []
     for i in range(1, d + 1):
-        name, rng, var_mfs = _variable(sections, f"Input{i}", ("gaussmf",), 2)
+        name, rng, var_mfs, lines = _variable(sections, f"Input{i}", ("gaussmf",), 2)
         fis_names.append(name)
+        name_lines.append(lines["Name"])
         ranges.append(rng)
         mfs.append(np.array([p for _, p in var_mfs]).reshape(-1, 2))
         if any(p[0] <= 0 for _, p in var_mfs):
             raise ValueError(f"[Input{i}]: every gaussmf sigma must be > 0")
-    out_name, _, out_mfs = _variable(sections, "Output1", ("linear", "constant"), d + 1)
+    out_name, _, out_mfs, out_lines = _variable(sections, "Output1", ("linear", "constant"), d + 1)
     fis_names.append(out_name)
+    name_lines.append(out_lines["Name"])
     rules = _rules(sections, [m.shape[0] for m in mfs], len(out_mfs))
     if rules.shape[0] != n_rules:
         raise ValueError(f"[System]: NumRules={n_rules} but [Rules] has {rules.shape[0]} rules")
@@ -368,6 +451,7 @@ def from_fis(text: str) -> DampingModel:
         if n.startswith(LOG) and i != 2:
             raise ValueError(f"[Input{i + 1}]: {n} is log-transformed; a DampingModel transforms only input 3 (K)")
     inputs, output = _names(fis_names, names)
+    _check_names(fis_names, name_lines, names, inputs, output)
     consequents = np.array([np.r_[np.zeros(d), p] if kind == "constant" else p for kind, p in out_mfs])
     est = ANFIS(
         input_names=[n for n, _ in inputs],
@@ -387,4 +471,6 @@ def from_fis(text: str) -> DampingModel:
     est.train_rmse_, est.val_rmse_, est.step_sizes_ = np.array([]), np.array([]), np.array([])
     est.best_epoch_ = 0
     est._incidence_ = _incidence(est.rule_mf_, est.centres_.size)  # as ANFIS.from_dataset
-    return DampingModel(est, d >= 3 and fis_names[2].startswith(LOG), out_name.startswith(LOG))
+    log_c = out_name.startswith(LOG)
+    _check_finite(est, log_c, rules, out_lines, [number for number, _ in sections["Rules"]])
+    return DampingModel(est, d >= 3 and fis_names[2].startswith(LOG), log_c)

@@ -156,26 +156,3 @@ def summarise(
         },
     )
     return chosen, record, table[..., 2].mean(axis=1)
-
-
-def cross_validate(
-    estimator: BaseEstimator,
-    X: np.ndarray,
-    y: np.ndarray,
-    candidates: list[dict],
-    folds: int,
-    seed: int,
-    rule: str = "one_se",
-    n_jobs: int = 1,
-) -> tuple[dict, xr.Dataset, np.ndarray]:
-    """k-fold CV RMSE of every candidate on (X, y); the chosen candidate, the record, mean fit seconds."""
-    parts = splits(len(y), folds, seed)
-    costs = [cost(c, X.shape[1]) for c in candidates for _ in parts]
-    out = run(fold_tasks(estimator, X, y, candidates, parts), n_jobs, costs)
-    results = [
-        (np.sqrt(np.mean((pred - y[test]) ** 2)), rules, t)
-        for (pred, rules, t), (_, test) in zip(out, parts * len(candidates), strict=True)
-    ]
-    units, name = getattr(estimator, "output_units", "1"), getattr(estimator, "output_name", "y")
-    chosen, record, seconds = summarise(candidates, results, folds, rule, units, name)
-    return candidates[chosen], record, seconds

@@ -11,7 +11,7 @@ chosen by k-fold cross-validation on the training rows (`uavdamp.anfis.model_sel
 RMSE with its standard error, rules and regret on the folds' held-out rows; the smallest structure within one
 standard error of the best by default), the epoch on a
 validation part of the training rows (`epoch_selection: validation`), and the checking rows are
-predicted once, by the ANFIS and by the baselines (`uavdamp.baselines`) fitted on the same
+predicted once, by the ANFIS and by the baselines (`uavdamp.anfis.baselines`) fitted on the same
 training rows and targets. `epoch_selection: checking` is MATLAB's anfis with checking data
 (chkFIS): the epoch is chosen on the checking rows, whose error is then optimistic.
 
@@ -270,6 +270,25 @@ def _summary(model: DampingModel, scores: xr.Dataset, samples: xr.Dataset, optio
     return attrs
 
 
+def check_grid_edges(table: xr.Dataset) -> None:
+    """ValueError if the chosen table's optimal C sits on an edge of the C grid inside the damper's range
+    (`optimum_at_grid_edge` 1 or 2, `uavdamp.reference_table.criteria.grid_edge`): there it is only a bound, and the
+    ANFIS would learn it as a value. A table without the flag (written before it existed) is not checked."""
+    if "optimum_at_grid_edge" not in table:
+        return
+    flags = table.optimum_at_grid_edge.values
+    bottom, top = int((flags == 1).sum()), int((flags == 2).sum())
+    if bottom + top:
+        raise ValueError(
+            f"reference table: the optimal C of {(bottom + top) / flags.size:.1%} of its cells ({top} at the top, "
+            f"{bottom} at the bottom of {flags.size}) lies on an edge of the C grid reference_table.damping_n_s_m "
+            "(start, stop) inside the damper's range platform.isolator.damping_min_n_s_m/damping_max_n_s_m: there "
+            "the table's best C is only a bound, and the ANFIS would learn it as a value; widen "
+            "reference_table.damping_n_s_m (stop up to damping_max_n_s_m, start down towards damping_min_n_s_m), "
+            "or set the damper's bounds to the grid's if that is the damper, and rerun"
+        )
+
+
 def train(
     table: xr.Dataset,
     grid: xr.Dataset | None,
@@ -280,7 +299,8 @@ def train(
     """Select, fit and check the ANFIS and the baselines; return the ANFIS, the record, fit times (s).
 
     target: (criterion, window) of a table and grid over every criterion and window (`select_target`);
-    the ANFIS learns that criterion's optimal C and the regret uses its grid slice.
+    the ANFIS learns that criterion's optimal C and the regret uses its grid slice. ValueError before any fit if
+    that optimum sits on an edge of the C grid inside the damper's range (`check_grid_edges`).
 
     With the `grid` (criterion over C) the record also holds each cell's regret per model: the
     criterion at the predicted C over the best criterion (1 = as good as the table's optimum), and every
@@ -288,6 +308,7 @@ def train(
     depend on it). The fit times are apart from the record, which is identical on two runs.
     """
     table, grid = select_target(table, grid, target)
+    check_grid_edges(table)
     X, y, dropped = table_samples(table)
     is_train = split(y.size, options.train_fraction, options.seed)
     with threadpool_limits(limits=1):  # one thread per process, the parallelism is across fits (n_jobs)

@@ -21,6 +21,8 @@ import exudyn as exu
 import numpy as np
 
 from uavdamp.helicopter import model as H
+from uavdamp.helicopter import trim as T
+from uavdamp.helicopter.hold import Hold, revolution_samples
 from uavdamp.helicopter.params import FlightRun, SolverOptions
 from uavdamp.helicopter.rotorloads import RotorLoads, feather_offsets
 
@@ -163,7 +165,6 @@ def start_state(heli: FlightRun, collective: float) -> tuple[np.ndarray, np.ndar
 
 def trimmed(heli: FlightRun, condition: str):
     """(flight helicopter, speed m/s, `trim.TrimResult`) of a flight condition."""
-    from uavdamp.helicopter import trim as T
 
     heli = flight_helicopter(heli)
     speed = flight_speed(heli, condition)
@@ -222,7 +223,6 @@ def release(heli: FlightRun, speed: float, result) -> tuple[Simulation, np.ndarr
 
 def pilot_of(sim: Simulation, result, mass: np.ndarray):
     """The hold for a released simulation: trim controls, the trim's control Jacobian, inertias from `mass`."""
-    from uavdamp.helicopter.hold import Hold, revolution_samples
 
     heli = sim.heli
     up = -sim.gravity / np.linalg.norm(sim.gravity)
@@ -246,8 +246,44 @@ def fly_trimmed(heli: FlightRun, speed: float, result):
     return sim, sim.solve(heli.flight.release + heli.solver.duration, pilot)
 
 
+# the config keys that set a trim: what a failed trim's message names
+TRIM_KEYS = (
+    "helicopter.fuselage.mass_kg",
+    "helicopter.main_rotor.omega_rad_s",
+    "helicopter.flight.forward_advance_ratio",
+    "helicopter.flight.trim.tolerance",
+    "helicopter.flight.trim.max_iterations",
+)
+
+
+class TrimError(RuntimeError):
+    """A trim that did not meet helicopter.flight.trim.tolerance (and helicopter.flight.allow_unconverged is false)."""
+
+
+def trim_failure(heli: FlightRun, condition: str, result) -> str:
+    """The text of an unconverged trim: condition, residual against its tolerance, the keys that set it."""
+    options = heli.flight.trim
+    worst = int(np.argmax(np.abs(result.residual)))
+    return (
+        f"helicopter {condition} trim did not converge: largest residual {np.abs(result.residual).max():.3g} "
+        f"(component {worst}: {'force' if worst < 3 else 'moment'}; forces / W, moments / W R) above "
+        f"helicopter.flight.trim.tolerance = {options.tolerance:g} after {result.iterations} Newton steps "
+        f"(helicopter.flight.trim.max_iterations = {options.max_iterations}; last controls and attitude "
+        f"{dict(zip(T.UNKNOWNS, np.round(result.x, 4).tolist(), strict=True))} rad). The trim is set by "
+        f"{', '.join(TRIM_KEYS)}: fuselage.mass_kg = {heli.fuselage.mass:g}, main_rotor.omega_rad_s = "
+        f"{heli.main_rotor.omega_rad_s:g}, advance ratio {advance_ratio(heli, condition):g}"
+    )
+
+
 def fly(heli: FlightRun, condition: str):
-    """Trim, release and fly one flight condition; (simulation, trim result, solver statistics)."""
+    """Trim, release and fly one flight condition; (simulation, trim result, solver statistics). TrimError
+    (`trim_failure`) when the trim did not converge, unless helicopter.flight.allow_unconverged is true: then the
+    run is flown and the datasets record it (`uavdamp.helicopter.flightdata`)."""
     heli, speed, result = trimmed(heli, condition)
+    if not result.converged and not heli.flight.allow_unconverged:
+        raise TrimError(
+            trim_failure(heli, condition, result) + "; set helicopter.flight.allow_unconverged: true to fly it "
+            "anyway (the run records trim_converged = 0 and every case taking it is flagged)"
+        )
     sim, stats = fly_trimmed(heli, speed, result)
     return sim, result, stats

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from uavdamp.helicopter import model as H
-from uavdamp.helicopter.flight import Simulation, advance_ratio, flight_speed, fly
+from uavdamp.helicopter.flight import Simulation, advance_ratio, flight_speed, fly, trim_failure
 from uavdamp.helicopter.params import FlightRun
 from uavdamp.helicopter.rotorloads import rotor_blades
 from uavdamp.helicopter.trim import TrimResult
@@ -134,6 +134,15 @@ def trim_dataset(heli: FlightRun, condition: str, result: TrimResult, hold: dict
     return xr.Dataset(data, attrs={"flight": condition, "inflow": heli.aerodynamics.inflow})
 
 
+def trim_attrs(heli: FlightRun, condition: str, result: TrimResult) -> dict:
+    """The trim's verdict every consumer of the run reads: trim_converged (1 or 0), trim_residual and, when it did
+    not converge (flown only with helicopter.flight.allow_unconverged), a ``warning`` with the reason."""
+    attrs = {"trim_converged": int(result.converged), "trim_residual": float(np.abs(result.residual).max())}
+    if not result.converged:
+        attrs["warning"] = trim_failure(heli, condition, result) + " (flown: helicopter.flight.allow_unconverged)"
+    return attrs
+
+
 def run(heli: FlightRun, condition: str) -> tuple[xr.Dataset, xr.Dataset]:
     """(run dataset, trim dataset) of one flight condition ("hover" or "forward"; module docstring)."""
     sim, result, stats = fly(heli, condition)
@@ -142,7 +151,7 @@ def run(heli: FlightRun, condition: str) -> tuple[xr.Dataset, xr.Dataset]:
     q = np.asarray(sim.mbs.GetSensorStoredData(sim.model.sensors["coordinates"]))
     q = q[int(np.searchsorted(q[:, 0], start - 1e-9)) :]
     angle_error = float(q[-1, 1 + H.HUB_LINK] - q[0, 1 + H.HUB_LINK] - heli.main_rotor.omega_rad_s * time[-1])
-    attrs = {"flight": condition, "rotor_angle_error_rad": angle_error, **stats}
+    attrs = {"flight": condition, "rotor_angle_error_rad": angle_error, **stats, **trim_attrs(heli, condition, result)}
     motion = H.motion_dataset(heli, time, displacement, rotation, attrs)
     motion.mount_rotation.attrs["rotation"] = FLIGHT_ROTATION
     motion.mount_displacement.attrs["rotation"] = FLIGHT_ROTATION
@@ -152,5 +161,6 @@ def run(heli: FlightRun, condition: str) -> tuple[xr.Dataset, xr.Dataset]:
     record = record.assign_coords(time=motion.time)
     up = -sim.gravity / np.linalg.norm(sim.gravity)
     trim = trim_dataset(heli, condition, result, held(record, q[:, 4:7].T, heli, up))
+    trim.attrs.update({k: v for k, v in attrs.items() if k == "warning"})
     trim.attrs["trim_history"] = json.dumps([[list(x), list(r)] for x, r in result.history])
     return xr.merge([motion, record], combine_attrs="override", join="exact"), trim

@@ -228,8 +228,31 @@ def build(heli: Helicopter, *, fix_fuselage: bool = False, momentum_sensors: boo
     return Model(sc, mbs, node, sensors, masses, constraints)
 
 
+class SolverFailure(RuntimeError):
+    """The helicopter's time integration did not converge (its message names the keys that set it)."""
+
+
+SOLVER_KEYS = (
+    "helicopter.solver.step_s",
+    "helicopter.solver.newton_absolute_tolerance_n",
+    "helicopter.main_rotor.omega_rad_s",
+    "helicopter.fuselage.mass_kg",
+)
+
+
+def solver_failure(model: Model, options: SolverOptions, reason: str) -> str:
+    """The text of a failed integration: the time it stopped, Exudyn's reason, the keys that set the step."""
+    t = float(model.mbs.systemData.GetTime())
+    return (
+        f"helicopter time integration did not converge at t = {t:.4g} s of {options.duration:g} s "
+        f"(step {options.step:g} s) [{reason.strip().splitlines()[0] if reason.strip() else 'no reason given'}]: "
+        f"the keys that set the step and the loads it resolves: {', '.join(SOLVER_KEYS)}"
+    )
+
+
 def solve(model: Model, options: SolverOptions, progress: str | None = None) -> dict:
-    """Integrate in time; return solver statistics. Raises RuntimeError if the solver fails.
+    """Integrate in time; return solver statistics. Raises SolverFailure (a RuntimeError naming the config keys
+    that set the step, `solver_failure`) if the solver fails.
 
     progress: a label for a console bar in simulated seconds (`uavdamp.progress`; shown only on a terminal).
     """
@@ -244,11 +267,15 @@ def solve(model: Model, options: SolverOptions, progress: str | None = None) -> 
         model.mbs.SetPreStepUserFunction(advance)
     try:
         ok = model.mbs.SolveDynamic(solver_settings(options), solverType=exu.DynamicSolverType.GeneralizedAlpha)
+    except Exception as error:  # Exudyn's SolverError (Newton failure, singular matrix) or a user function's
+        if isinstance(error, SolverFailure):
+            raise
+        raise SolverFailure(solver_failure(model, options, f"{type(error).__name__}: {error}")) from error
     finally:
         if shown is not None:
             shown.close()
     if not ok:
-        raise RuntimeError("helicopter time integration failed")
+        raise SolverFailure(solver_failure(model, options, "SolveDynamic returned False"))
     it = model.mbs.sys["dynamicSolver"].it
     return {"newton_iterations": int(it.newtonStepsCount), "jacobian_updates": int(it.newtonJacobiCount)}
 

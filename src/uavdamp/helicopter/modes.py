@@ -10,7 +10,7 @@ q = T z, dq/dt = T dz/dt + Omega T' z, d2q/dt2 = T d2z/dt2 + 2 Omega T' dz/dt + 
 
     M_z = T^-1 M T,   D_z = T^-1 (D T + 2 Omega M T'),   K_z = T^-1 (K T + Omega D T' + Omega^2 M T'').
 
-Exudyn's model stays the only model (no second derivation to keep in step). Checks (tests/test_rotor_modes.py):
+Exudyn's model stays the only model (no second derivation to keep in step). Checks (tests/test_helicopter_modes.py):
 the transformed matrices do not depend on psi (a wrong blade order or azimuth breaks that); with the hub held
 the cyclic flap and lag modes sit at nu + Omega and |nu - Omega| (the Omega terms); at rest the modes are
 Exudyn's own complex eigenvalues. Eigenvalues of (M_z, D_z, K_z) are fixed-frame frequencies.

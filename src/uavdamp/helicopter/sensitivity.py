@@ -11,10 +11,11 @@ from dataclasses import replace
 import numpy as np
 import xarray as xr
 
-from uavdamp import spectrum as spectra
 from uavdamp.helicopter import model as H
+from uavdamp.helicopter.flightdata import run as flight_run
 from uavdamp.helicopter.params import Helicopter, SolverOptions, Spectrum
 from uavdamp.settings import revalidate
+from uavdamp.signals import spectrum as spectra
 
 BASELINE = "baseline"
 
@@ -156,8 +157,6 @@ def run(heli: Helicopter, name: str, options: SolverOptions, flight: str = "vacu
     if flight == "vacuum":
         result = H.run(changed, options)
     else:
-        from uavdamp.helicopter.flightdata import run as flight_run
-
         result = flight_run(replace(changed, solver=options), flight)[0][["mount_displacement", "mount_rotation"]]
     values = {p: (value if p == parameter else nominal(heli)) for p, (_, _, _, nominal) in PARAMETERS.items()}
     result.attrs = {}

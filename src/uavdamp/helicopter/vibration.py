@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from uavdamp import spectrum
 from uavdamp.helicopter.params import Helicopter, Spectrum
+from uavdamp.signals import spectrum
 
 
 def _spectra(signals: np.ndarray, dt: float, options: Spectrum) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

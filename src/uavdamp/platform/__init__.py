@@ -8,6 +8,14 @@ linear_plant  LinearPlant: the exact linear plant from Exudyn's linearisation
 statespace    exact discretisation and sine responses of a linear time-invariant plant
 plants        which plant runs a strategy
 modes         the clamped platform's modes by eigen-analysis
+six_axis      a rigid payload on N isolator elements: matrices, six rigid-body modes, state space, transmissibility
+six_axis_run  its exact time-domain run under a mount motion and a semi-active damping schedule
+six_axis_exudyn  the same payload and elements in Exudyn (the modes' independent check)
+bouc_wen      Bouc-Wen hysteresis of a wire-rope element
+imu           the gimbal's IMU and its complementary filter
+gimbal        the gyro-stabilised gimbal: parameters, axis plant, closed-form cascade gains
+gimbal_loop   the gimbal's discrete loop in closed form: margins, sensitivity, base to line of sight
+gimbal_sim    the stabilised gimbal on a moving base in the time domain
 """
 
 from uavdamp.platform.design import design_stiffness, mass_matrix

@@ -17,8 +17,7 @@ import numpy as np
 import xarray as xr
 
 from uavdamp import contract
-from uavdamp.contract import DamperBounds, MountMotion, Observation, SolverFailed, line_of_sight
-from uavdamp.excitation import on_grid
+from uavdamp.contract import DamperBounds, MountMotion, Observation, SolverFailed, line_of_sight, on_grid
 from uavdamp.platform.model import MOUNT_LINKS, build, mount_coordinates
 from uavdamp.platform.params import PlatformParams
 
@@ -37,6 +36,14 @@ class RunState:
     c: float = math.nan  # N s m-1, damping in force
     integral: np.ndarray = field(default_factory=lambda: np.zeros(0))  # servo angle integrals, rad s
     force: np.ndarray = field(default_factory=lambda: np.zeros(0))  # servo I forces, N m
+    clips: dict = field(default_factory=contract.new_clip_count)  # demands made and clipped (`contract.counted_clip`)
+
+
+SOLVER_KEYS = (
+    "platform.solver.time_step_s",
+    "platform.isolator.damping_max_n_s_m",
+    "platform.structure.servo_damping_ratio",
+)
 
 
 class ExudynPlant:
@@ -147,7 +154,7 @@ class ExudynPlant:
             mount_velocity=mount_v,
             stroke=np.array([q[i["iso_y"]], q[i["iso_z"]]]),
         )
-        return contract.clip(run.law(observation), self.bounds, observation.t_now)
+        return contract.counted_clip(run.law, observation, self.bounds, run.clips)
 
     def _set_damping(self, c: float) -> None:
         """Put C (N s m-1) on both isolator dampers; tell the solver to refresh its Jacobian."""
@@ -167,7 +174,7 @@ class ExudynPlant:
         time (s, from 0, increasing), mount: the prescribed mount motion (`uavdamp.contract.MountMotion`),
         interpolated linearly onto the solver grid (step params.time_step, up to time[-1]).
         stiffness: isolator K, N m-1 (default: the configured K). law: a damping law (`uavdamp.contract.DampingLaw`,
-        e.g. `uavdamp.laws.Constant`), required for the isolated mount and ignored by the rigid one (its damping
+        e.g. `uavdamp.damping.laws.Constant`), required for the isolated mount and ignored by the rigid one (its damping
         output is NaN). The law's update period (None: the configured one) must be a multiple
         of the time step. Initial state: undeformed; the mount moves with the input's initial velocity, the base
         is at rest (isolated) or moves with the mount (rigid), the platform is at rest relative to the base.
@@ -237,7 +244,8 @@ class ExudynPlant:
         if not success or camera.shape[0] != grid.size:
             raise SolverFailed(
                 f"solver stopped at t = {self._solver.it.currentTime:.6g} s of {grid[-1]:.6g} s "
-                f"({camera.shape[0]} of {grid.size} samples)"
+                f"({camera.shape[0]} of {grid.size} samples) at K = {stiffness:g} N m-1; the keys that set the step "
+                f"and the stiffest force it resolves: {', '.join(SOLVER_KEYS)}"
             )
         q = np.asarray(mbs.GetSensorStoredData(model.sensors["coordinates"]))[:, 1:]
         rates = np.asarray(mbs.GetSensorStoredData(model.sensors["rates"]))[:, 1:]
@@ -269,4 +277,4 @@ class ExudynPlant:
             "newton_iterations": self.newton_iterations,
             "jacobian_updates": self.jacobian_updates,
         }
-        return contract.response_dataset(grid, values, attrs)
+        return contract.response_dataset(grid, values, attrs, run.clips)

@@ -2,16 +2,16 @@
 
 The isolator's linear plant at C = 0 takes the damper force F on the base as an input (`damper_input`:
 z' = A(K, 0) z + B w + B_f F; the ideal damper is F = -C v_rel). A force damper (`ForceDamper`: e.g. the Spencer
-MR damper of `uavdamp.actuation`) gives the force F_d (N, (y, z)) needed to move its stroke, so F = -F_d. Over one
-solver step the plant is exact for a force held at its step mean (zero-order hold: gamma_f = the force block of
+MR damper of `uavdamp.damping.actuation`) gives the force F_d (N, (y, z)) needed to move its stroke, so F = -F_d. Over
+one solver step the plant is exact for a force held at its step mean (zero-order hold: gamma_f = the force block of
 expm([[A, B_f], [0, 0]] h)); the damper is stepped on the stroke the plant gives:
 
     predict   z_p = step(z) - gamma_f F_d(start): the stroke x, x' at the step's end from the force at its start;
     evaluate  the damper over the step on the Hermite stroke (x0, x0', x_p, x_p'): its mean force F_m (state restored);
     correct   z = step(z) - gamma_f F_m, and the damper stepped again on that stroke (its state at the step's end).
 
-(choice: PECE with the step mean, as `uavdamp.dampers` recommends over a start-held force, which is 5-21 % off at
-2 ms). A damper whose step mean force is linear in the stroke, F_d = k (x_1 - x_0) with k known at the step's start
+(choice: PECE with the step mean, as `uavdamp.damping.dampers` recommends over a start-held force, which is 5-21 % off
+at 2 ms). A damper whose step mean force is linear in the stroke, F_d = k (x_1 - x_0) with k known at the step's start
 (`rate_gain`: the viscous and the lagged damper), is solved for exactly instead: (I + k G) F_d = k (x_free - x_0),
 G the stroke's response to a unit force: the fixed point of F_d <- k (x_free - G F_d - x_0), of which PECE takes
 two steps (with C = 200 N s m-1 at a 4 ms step PECE diverged, the exact step did not). A viscous force damper

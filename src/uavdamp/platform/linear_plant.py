@@ -29,10 +29,10 @@ from dataclasses import dataclass
 import exudyn as exu
 import numpy as np
 import xarray as xr
+from scipy.linalg import eigh
 
 from uavdamp import contract
-from uavdamp.contract import DamperBounds, MountMotion, Observation, line_of_sight
-from uavdamp.excitation import on_grid
+from uavdamp.contract import DamperBounds, MountMotion, Observation, line_of_sight, on_grid
 from uavdamp.platform.model import MOUNT_LINKS, build, mount_coordinates
 from uavdamp.platform.params import PlatformParams
 from uavdamp.platform.statespace import (
@@ -268,7 +268,6 @@ class LinearModel:
 
     def undamped_frequencies(self, stiffness: float) -> np.ndarray:
         """Undamped natural frequencies (Hz, ascending) with the mount held: eig(K_xx, M_xx)."""
-        from scipy.linalg import eigh
 
         lin, f = self.lin, self.free
         k_full = lin.stiffness0 + (stiffness if self.isolated else 0.0) * lin.stiffness_unit
@@ -339,7 +338,7 @@ class LinearPlant:
             mount_velocity=mount_v,
             stroke=tq @ z + u_share[n],
         )
-        return contract.clip(law(observation), self.bounds, observation.t_now)
+        return contract.counted_clip(law, observation, self.bounds, run["clips"])
 
     def prepare(self, time, mount: MountMotion) -> dict:
         """The run's input on the solver grid: time, the motion, the mount links' coordinates u (n, 6), their slope
@@ -352,7 +351,8 @@ class LinearPlant:
         u.flags.writeable = False  # a law sees views of these
         slope = np.diff(u, axis=0) / h
         rate = np.concatenate([slope[:1], 0.5 * (slope[:-1] + slope[1:]), slope[-1:]])
-        return {"time": grid, "motion": motion, "u": u, "slope": slope, "rate": rate}
+        clips = contract.new_clip_count()  # the run's demands made and clipped (`uavdamp.contract.counted_clip`)
+        return {"time": grid, "motion": motion, "u": u, "slope": slope, "rate": rate, "clips": clips}
 
     def run(self, time, mount: MountMotion, *, stiffness: float | None = None, law=None) -> xr.Dataset:
         """One run; arguments, clipping, update times, initial state and response as `ExudynPlant.run`."""
@@ -401,4 +401,5 @@ class LinearPlant:
             "isolator_stroke": pair("stroke"),
             "isolator_velocity": pair("stroke_rate"),
         }
-        return contract.response_dataset(run["time"], values, contract.response_attrs(self, stiffness))
+        attrs = contract.response_attrs(self, stiffness)
+        return contract.response_dataset(run["time"], values, attrs, run["clips"])

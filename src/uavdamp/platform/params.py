@@ -102,7 +102,8 @@ class Solver:
     """Time integration (``platform.solver``)."""
 
     time_step: float = setting("time_step_s")  # s, solver step
-    max_frequency_fraction: float = setting()  # 1, input frequencies must stay below this x Nyquist (uavdamp.checks)
+    # 1, input frequencies must stay below this x Nyquist (uavdamp.config.checks)
+    max_frequency_fraction: float = setting()
 
     def validate(self) -> None:
         require(self.time_step > 0, "platform.solver.time_step_s", f"must be > 0, got {self.time_step}")

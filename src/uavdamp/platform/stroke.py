@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from uavdamp.platform.linear_plant import OUTPUTS
 from uavdamp.platform.params import PlatformParams, StrokeBudget
 
 
@@ -71,7 +72,6 @@ def steady_stroke(plant, stiffness: float, damping: float, freq_y_hz: float, fre
     """Steady-state stroke amplitude bound (y, z), m, of the linear plant (`LinearPlant`) at (K, C) under the
     table's inputs y = A sin(2 pi f_y t), z = A sin(2 pi f_z t): on each stroke axis the sum of the amplitudes the
     two inputs drive (|H(j w)| A from the frequency response, exact for the linear plant; transients not counted)."""
-    from uavdamp.platform.linear_plant import OUTPUTS
 
     ss = plant.model.state_space(stiffness, damping)
     rows = [OUTPUTS.index("stroke_y"), OUTPUTS.index("stroke_z")]

@@ -10,6 +10,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from uavdamp.anfis.damping import DampingModel
+
 MARKERS = {"grid": "s", "fcm": "o", "subtractive": "^"}
 FEW = 12  # up to this many MFs per input, the ordered panel names each MF
 
@@ -51,7 +53,6 @@ def membership_figure(model):
     ``model``: a DampingModel (K in N/m on a log axis where learnt as log10 K) or a bare ANFIS. No per-MF legend:
     readable at 2 MFs and at 65. Grey: outside the training range (inputs are clamped to it), shown where a centre
     left it."""
-    from uavdamp.anfis.damping import DampingModel
 
     model = model if isinstance(model, DampingModel) else DampingModel(model, False, False)
     est = model.anfis

@@ -9,66 +9,113 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+MIN_BOX_SCENARIOS = 5  # fewer evaluation scenarios: every scenario drawn as a point, no box
 
-def criteria_figure(ds: xr.Dataset, damper: str = "ideal"):
-    """Heat maps of log10 J (controllers x criteria): evaluation mean and worst, one column per stiffness."""
-    ks = ds.stiffness.values
-    size = (min(16.0, 5.5 * ks.size), 8.5)
-    fig, axes = plt.subplots(2, ks.size, figsize=size, squeeze=False, constrained_layout=True)
-    for col, k in enumerate(ks):
+
+def _dampers(ds: xr.Dataset, dampers) -> list[str]:
+    """The dampers to draw: those named, else every damper of the dataset on which some controller ran."""
+    names = [str(d) for d in ds.damper.values] if dampers is None else list(dampers)
+    return [d for d in names if dampers is not None or np.isfinite(ds.J_mean.sel(damper=d).values).any()]
+
+
+def criteria_figure(ds: xr.Dataset, dampers=None):
+    """Heat maps of log10 J (controllers x criteria): evaluation mean and worst, one column per stiffness and
+    damper (default: every damper a controller ran with); '-' where a controller did not run."""
+    panels = [(k, d) for d in _dampers(ds, dampers) for k in ds.stiffness.values]
+    size = (min(16.0, 5.5 * len(panels)), 8.5)
+    fig, axes = plt.subplots(2, len(panels), figsize=size, squeeze=False, constrained_layout=True)
+    for col, (k, damper) in enumerate(panels):
         for row, name in enumerate(("J_mean", "J_worst")):
             ax = axes[row, col]
             values = ds[name].sel(stiffness=k, damper=damper).transpose("controller", "criterion").values
             shown = np.log10(np.maximum(values, 10**-2.5))  # J = 0 (e.g. no unsharp frame) at the colour scale's end
-            image = ax.imshow(shown, cmap="viridis_r", vmin=-2.5, vmax=0.5, aspect="auto")
+            image = ax.imshow(np.ma.masked_invalid(shown), cmap="viridis_r", vmin=-2.5, vmax=0.5, aspect="auto")
+            ax.set_facecolor("0.9")
             for (i, j), v in np.ndenumerate(values):
-                ax.text(j, i, f"{v:.3g}", ha="center", va="center", fontsize=7, color="w" if v < 0.1 else "k")
+                text, colour = ("-", "0.4") if not np.isfinite(v) else (f"{v:.3g}", "w" if v < 0.1 else "k")
+                ax.text(j, i, text, ha="center", va="center", fontsize=7, color=colour)
             ax.set_xticks(range(ds.criterion.size), ds.criterion.values, rotation=35, ha="right", fontsize=8)
             ax.set_yticks(range(ds.controller.size), ds.controller.values, fontsize=8)
             ax.set_title(f"{'mean' if name == 'J_mean' else 'worst'} J, K = {k:g} N/m ({damper} damper)", fontsize=9)
-    fig.colorbar(image, ax=axes, label="log10 J (J = 1: rigid mount)", shrink=0.6)
+    fig.colorbar(image, ax=axes, label="log10 J (J = 1: rigid mount; '-': not run)", shrink=0.6)
     return fig
 
 
-def boxplot_figure(ds: xr.Dataset, criteria=("los_std", "blur_p95", "displacement_std"), damper: str = "ideal"):
-    """Box plots of J over the evaluation scenarios per controller, one row per criterion, one column per K."""
-    ks = ds.stiffness.values
-    evaluation = ds.J.where(ds.set == "evaluation", drop=True).sel(damper=damper)
+def boxplot_figure(ds: xr.Dataset, criteria=("los_std", "blur_p95", "displacement_std"), dampers=None):
+    """J over the evaluation scenarios per controller, one row per criterion, one column per K and damper: box
+    plots from `MIN_BOX_SCENARIOS` scenarios up, every scenario as a point below that."""
+    panels = [(k, d) for d in _dampers(ds, dampers) for k in ds.stiffness.values]
+    evaluation = ds.J.where(ds.set == "evaluation", drop=True)
+    n = evaluation.scenario.size
     fig, axes = plt.subplots(
         len(criteria),
-        ks.size,
-        figsize=(min(16.0, 6 * ks.size), min(11.5, 3.2 * len(criteria))),
+        len(panels),
+        figsize=(min(16.0, 6 * len(panels)), min(11.5, 3.2 * len(criteria))),
         squeeze=False,
         constrained_layout=True,
     )
     names = [str(c) for c in ds.controller.values]
-    for col, k in enumerate(ks):
+    for col, (k, damper) in enumerate(panels):
         for row, criterion in enumerate(criteria):
             ax = axes[row, col]
-            data = [evaluation.sel(stiffness=k, criterion=criterion, controller=c).values for c in names]
-            ax.boxplot([d[np.isfinite(d)] for d in data], showfliers=True, medianprops={"color": "k", "lw": 1.5})
+            at = evaluation.sel(stiffness=k, criterion=criterion, damper=damper)
+            data = [at.sel(controller=c).values for c in names]
+            data = [d[np.isfinite(d)] for d in data]
+            if n >= MIN_BOX_SCENARIOS:
+                ax.boxplot(data, showfliers=True, medianprops={"color": "k", "lw": 1.5})
+            else:
+                for i, d in enumerate(data, start=1):
+                    ax.plot(np.full(d.size, i), d, "o", color="C0", ms=5, alpha=0.8)
             ax.set_xticks(range(1, len(names) + 1), names, rotation=35, ha="right", fontsize=8)
+            ax.set_xlim(0.5, len(names) + 0.5)
             ax.set_yscale("log")
             ax.set_ylabel(f"J {criterion} (1; rigid = 1)")
-            ax.set_title(f"K = {k:g} N/m, {evaluation.scenario.size} evaluation scenarios", fontsize=9)
+            shown = "boxes" if n >= MIN_BOX_SCENARIOS else "points"
+            ax.set_title(f"K = {k:g} N/m, {damper} damper, {n} evaluation scenarios ({shown})", fontsize=9)
     return fig
 
 
+def _shown(value: float) -> str:
+    return f"{value:.3g}"
+
+
 def ranking(ds: xr.Dataset, stiffness: float, criterion: str, damper: str) -> str:
-    """The best two controllers on a criterion's evaluation mean J; for a frame-phase criterion, whether the lead
-    exceeds the spread over the frame clock's phase (the leader's highest-phase mean below the runner-up's lowest)."""
+    """The best two controllers on a criterion's evaluation mean J ('=' where they are equal to the shown three
+    digits, '<' otherwise); for a frame-phase criterion, whether the lead exceeds the spread over the frame clock's
+    phase (the leader's highest-phase mean below the runner-up's lowest)."""
     at = {"stiffness": stiffness, "damper": damper}
     mean = ds.J_mean.sel(criterion=criterion, **at).to_series().drop("rigid", errors="ignore").dropna().sort_values()
     if mean.size < 2:
         return f"{criterion}: fewer than two controllers"
     first, second = mean.index[:2]
-    text = f"{criterion}: {first} {mean.iloc[0]:.3g} < {second} {mean.iloc[1]:.3g}"
+    relation = "=" if _shown(mean.iloc[0]) == _shown(mean.iloc[1]) else "<"  # equal to the shown digits: a tie
+    text = f"{criterion}: {first} {_shown(mean.iloc[0])} {relation} {second} {_shown(mean.iloc[1])}"
     if "phased" in ds.dims and criterion in ds.phased.values:
         high = float(ds.J_high_mean.sel(phased=criterion, controller=first, **at))
         low = float(ds.J_low_mean.sel(phased=criterion, controller=second, **at))
         verdict = "beyond the frame-phase spread" if high < low else "within the frame-phase spread: no ranking"
         text += f" ({first} up to {high:.3g}, {second} from {low:.3g}: {verdict})"
     return text
+
+
+def identical_rows(ds: xr.Dataset, rows: dict[str, tuple], stiffness: float, damper: str) -> list[str]:
+    """A remark per group of controllers whose table rows are identical (every run cell equal as shown), with the
+    share of their demands below the damper's range (`demand_below_range_mean`) where the data has it."""
+    groups = {}
+    for name, cells in rows.items():
+        if name != "rigid" and any(c != "-" for c in cells):
+            groups.setdefault(cells, []).append(name)
+    out = []
+    for names in (g for g in groups.values() if len(g) > 1):
+        text = f"- identical rows: {', '.join(names)}"
+        if "demand_below_range_mean" in ds:
+            at = {"stiffness": stiffness, "damper": damper}
+            shares = [float(ds.demand_below_range_mean.sel(controller=n, **at)) for n in names]
+            text += f"; share of their demands below the {damper} damper's range: " + ", ".join(
+                f"{n} {100 * v:.0f} %" for n, v in zip(names, shares, strict=True)
+            )
+        out.append(text)
+    return out
 
 
 def markdown_table(ds: xr.Dataset, damper: str = "ideal", criteria=None) -> str:
@@ -85,17 +132,23 @@ def markdown_table(ds: xr.Dataset, damper: str = "ideal", criteria=None) -> str:
             "| controller | " + " | ".join(criteria) + " |",
             "|---" * (len(criteria) + 1) + "|",
         ]
+        rows = {}
         for c in ds.controller.values:
             cells = []
             for x in criteria:
                 at = {"controller": c, "stiffness": k, "damper": damper}
-                cell = f"{float(ds.J_mean.sel(criterion=x, **at)):.3g} / {float(ds.J_worst.sel(criterion=x, **at)):.3g}"
+                mean, worst = float(ds.J_mean.sel(criterion=x, **at)), float(ds.J_worst.sel(criterion=x, **at))
+                if not np.isfinite(mean):
+                    cells.append("-")
+                    continue
+                cell = f"{_shown(mean)} / {_shown(worst)}"
                 if x in phased:
                     low, high = (float(ds[v].sel(phased=x, **at)) for v in ("J_low_mean", "J_high_mean"))
                     cell += f" [{low:.3g}-{high:.3g}]"
                 cells.append(cell)
             lines.append(f"| {c} | " + " | ".join(cells) + " |")
-        lines += ["", *(f"- {ranking(ds, k, x, damper)}" for x in criteria), ""]
+            rows[str(c)] = tuple(cells)
+        lines += ["", *(f"- {ranking(ds, k, x, damper)}" for x in criteria), *identical_rows(ds, rows, k, damper), ""]
     if "tuned_on" in ds.coords:
         tuned = {
             str(c): sorted({str(v) for v in ds.tuned_on.sel(controller=c).values} - {""}) for c in ds.controller.values

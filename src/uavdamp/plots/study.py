@@ -51,10 +51,6 @@ def _style(strategy: str, names=()) -> dict:
     return {"color": colour(strategy, names), "ls": linestyle(strategy, names), "lw": 1.2, "zorder": 2}
 
 
-def _mm(da: xr.DataArray) -> np.ndarray:
-    return 1e3 * da.values
-
-
 def _mm_from_start(da: xr.DataArray) -> np.ndarray:
     """Displacement in mm relative to its value at t = 0 (the input's offset; `style.move_from_start`)."""
     return 1e3 * move_from_start(da.values)

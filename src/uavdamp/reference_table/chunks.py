@@ -24,9 +24,8 @@ from threadpoolctl import threadpool_limits
 
 from uavdamp import io
 from uavdamp.contract import SolverFailed
-from uavdamp.excitation import sine_input
+from uavdamp.damping.laws import Constant
 from uavdamp.io import exclusive, open_dataset  # noqa: F401  (exclusive: the chunk job's lock, io's)
-from uavdamp.laws import Constant
 from uavdamp.platform import ExudynPlant, LinearPlant, PlatformParams
 from uavdamp.progress import each
 from uavdamp.reference_table import criteria as crit
@@ -40,6 +39,7 @@ from uavdamp.reference_table.grid import (
     criterion_variables,
 )
 from uavdamp.reference_table.sine_batch import sine_criteria
+from uavdamp.sources.excitation import sine_input
 
 
 def rebuild_command(path) -> str:

@@ -5,13 +5,18 @@ Criteria (each a number per run and window; smaller is better):
                    displacement (the paper's Eq. 1 up to the square root, which does not move the argmin)
     line_of_sight  sqrt(var psi + var theta), rad: the camera's yaw and pitch (1/N), as `image_quality.los_std`
     blur           95th percentile over the window's frames of the per-frame blur, px (units "1"), with the
-                   camera section's model (`uavdamp.image_quality`: frames start at the window's start)
+                   camera section's model (`uavdamp.camera.image_quality`: frames start at the window's start)
 Windows are named spans [start, end] s of each run (config `reference_table.windows`): `transient` from rest
 (the paper's), `steady` after the isolator's start-up.
 
 From a response dataset (`response_criteria`, the Exudyn path and the verification) the blur uses the exact
-pinhole projection (`uavdamp.camera`); the batched linear grid (`uavdamp.reference_table.sine_batch`) uses its
+pinhole projection (`uavdamp.camera.optics`); the batched linear grid (`uavdamp.reference_table.sine_batch`) uses its
 first-order form.
+
+Grid edges: where the optimum is the C grid's first or last value and that value lies inside the damper's bounds
+(`platform.isolator.damping_min_n_s_m`, `damping_max_n_s_m`), the true optimum may lie beyond the grid and the
+table's C is only a bound: `optimum_at_grid_edge` flags such cells (1 at the bottom, 2 at the top; 3 where the edge
+is the damper's own bound, the best C the damper can give) and `grid_edge_share` counts flags 1 and 2.
 
 Table ties: where several dampings give exactly the same minimum, the smallest damping is taken (numpy's
 argmin returns the first index, and the damping axis is increasing). Failed points (NaN) are ignored; a cell
@@ -23,8 +28,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from uavdamp.camera import CameraOptics
-from uavdamp.image_quality import frame_metrics, pixel_attrs
+from uavdamp.camera.image_quality import frame_metrics, pixel_attrs
+from uavdamp.camera.optics import CameraOptics
 
 CRITERIA = {
     "displacement": {"units": "m", "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) over the window"},
@@ -33,6 +38,13 @@ CRITERIA = {
 }
 CRITERION_ATTRS = CRITERIA["displacement"]
 WINDOW_ATTRS = {"units": "1", "long_name": "criterion time window (reference_table.windows)"}
+EDGE_ATTRS = {
+    "units": "1",
+    "long_name": "damping_opt on an edge of the C grid (reference_table.damping_n_s_m): 1 bottom, 2 top (a bound "
+    "inside the damper's range, not an optimum), 3 the damper's own bound, 0 interior",
+    "flag_values": np.arange(4, dtype=np.int8),
+    "flag_meanings": "interior at_grid_bottom at_grid_top at_damper_bound",
+}
 _BY_CRITERION = ("criterion_opt", "criterion_best_constant", "criterion_at_stiffness_opt")  # carry its units
 
 
@@ -103,13 +115,31 @@ def _nanargmin(values: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
     return np.where(all_nan, -1, index), np.where(all_nan, np.nan, best)
 
 
-def optimum(values: xr.DataArray, flat_tolerance: float = 0.05) -> xr.Dataset:
+EDGE_FLAGS = {0: "interior", 1: "at_grid_bottom", 2: "at_grid_top", 3: "at_damper_bound"}
+
+
+def grid_edge(ic: np.ndarray, damping: np.ndarray, damper_bounds: tuple[float, float] | None) -> np.ndarray:
+    """`EDGE_FLAGS` of optimum indices `ic` (-1: no optimum) on the increasing C grid `damping` (N s/m), given the
+    damper's (min, max) C (N s/m; None: unknown, every grid edge may hide a better C beyond it)."""
+    low, high = damper_bounds if damper_bounds is not None else (-np.inf, np.inf)
+    last = damping.size - 1
+    flags = np.zeros(ic.shape, dtype=np.int8)
+    flags[ic == 0] = 3 if damping[0] <= low else 1
+    flags[ic == last] = 3 if damping[last] >= high else 2
+    return flags
+
+
+def optimum(
+    values: xr.DataArray, flat_tolerance: float = 0.05, damper_bounds: tuple[float, float] | None = None
+) -> xr.Dataset:
     """The reference table of one criterion `values` (freq_y, freq_z, stiffness, damping), with its units.
 
     - damping_opt, criterion_opt (freq_y, freq_z, stiffness): the best constant C per K;
     - stiffness_opt, damping_at_stiffness_opt, criterion_at_stiffness_opt (freq_y, freq_z);
     - damping_flat_min/max (freq_y, freq_z, stiffness): the damping range whose criterion stays
       within (1 + flat_tolerance) of the optimum, how flat the criterion is around it;
+    - optimum_at_grid_edge (freq_y, freq_z, stiffness): `grid_edge` flags of damping_opt (`damper_bounds`: the
+      damper's (min, max) C, N s/m), grid_edge_share: the share of cells flagged 1 or 2 (a bound, not an optimum);
     - damping_opt_spread (stiffness): max / min of damping_opt over the frequencies, and
       scheduling_gain (stiffness): the mean over frequencies of criterion(best single C for this K)
       / criterion_opt; 1 means frequency scheduling of C buys nothing at this K.
@@ -137,6 +167,7 @@ def optimum(values: xr.DataArray, flat_tolerance: float = 0.05) -> xr.Dataset:
         gain = np.nanmean(const / c_best, axis=(0, 1))
     c_const = np.where(ic_const >= 0, damping[np.maximum(ic_const, 0)], np.nan)
 
+    edge = grid_edge(ic, damping, damper_bounds)
     d3, d2, k, ns = ("freq_y", "freq_z", "stiffness"), ("freq_y", "freq_z"), ("stiffness",), "N s m-1"
     tol = f"{flat_tolerance:.0%}"
     rows = [
@@ -152,14 +183,25 @@ def optimum(values: xr.DataArray, flat_tolerance: float = 0.05) -> xr.Dataset:
         ("criterion_best_constant", d3, const, units, "criterion with damping_best_constant"),
         ("scheduling_gain", k, gain, "1", "mean of criterion_best_constant / criterion_opt over the frequencies"),
     ]
-    return xr.Dataset(
+    out = xr.Dataset(
         {name: (dims, value, {"units": u, "long_name": text}) for name, dims, value, u, text in rows},
         coords={name: crit[name] for name in ("freq_y", "freq_z", "stiffness")},
     )
+    out["optimum_at_grid_edge"] = (d3, edge, EDGE_ATTRS)
+    share = float(np.isin(edge, (1, 2)).mean())
+    out["grid_edge_share"] = (
+        (),
+        share,
+        {"units": "1", "long_name": "share of cells whose damping_opt is a grid bound"},
+    )
+    return out
 
 
-def reference_table(grid: xr.Dataset, flat_tolerance: float = 0.05) -> xr.Dataset:
-    """The table (`optimum`) of every criterion variable of the grid and every window, in one dataset.
+def reference_table(
+    grid: xr.Dataset, flat_tolerance: float = 0.05, damper_bounds: tuple[float, float] | None = None
+) -> xr.Dataset:
+    """The table (`optimum`, with the damper's (min, max) C `damper_bounds`, N s/m) of every criterion variable of
+    the grid and every window, in one dataset.
 
     Variables in N s m-1, N m-1 or 1 are stacked over (criterion, window, ...); those in the criterion's
     own units (criterion_opt, criterion_best_constant, criterion_at_stiffness_opt) are one variable per
@@ -177,7 +219,8 @@ def reference_table(grid: xr.Dataset, flat_tolerance: float = 0.05) -> xr.Datase
     for name in names:
         values = grid[variable(name)].reset_coords(drop=True)
         tables[name] = stacked(
-            [optimum(values.isel(window=j), flat_tolerance) for j in range(values.sizes["window"])], "window"
+            [optimum(values.isel(window=j), flat_tolerance, damper_bounds) for j in range(values.sizes["window"])],
+            "window",
         ).assign_coords(windows)
     shared = [v for v in tables[names[0]].data_vars if v not in _BY_CRITERION]
     out = stacked([tables[n][shared] for n in names], "criterion")
@@ -196,6 +239,7 @@ def reference_table(grid: xr.Dataset, flat_tolerance: float = 0.05) -> xr.Datase
         "flat_tolerance": flat_tolerance,
         "tie_rule": "smallest damping among equal minima",
         "n_failed_points": int(grid.failed.sum()) if "failed" in grid else 0,
+        **({"damper_bounds_n_s_m": list(damper_bounds)} if damper_bounds is not None else {}),
     }
     return out
 

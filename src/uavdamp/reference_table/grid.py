@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from uavdamp.camera import CameraOptics
+from uavdamp.camera.optics import CameraOptics
 from uavdamp.reference_table import criteria as crit
 from uavdamp.reference_table.params import ReferenceGrid
 

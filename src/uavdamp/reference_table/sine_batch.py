@@ -17,8 +17,8 @@ import math
 import numpy as np
 from scipy import sparse
 
-from uavdamp.camera import CameraOptics
-from uavdamp.image_quality import frame_starts
+from uavdamp.camera.image_quality import frame_starts
+from uavdamp.camera.optics import CameraOptics
 from uavdamp.platform.linear_plant import OUTPUTS, LinearPlant
 from uavdamp.platform.statespace import free_response_rows, sine_outputs
 
@@ -119,7 +119,7 @@ def exposure_weights(time: np.ndarray, camera: CameraOptics, window: tuple[float
 
 
 def first_order_image_path(camera: CameraOptics, channels: np.ndarray) -> np.ndarray:
-    """(u, v), px, to first order: f_px (psi + y/D), f_px (z/D - theta) (`uavdamp.camera`).
+    """(u, v), px, to first order: f_px (psi + y/D), f_px (z/D - theta) (`uavdamp.camera.optics`).
 
     channels (time, 4, ...): camera y, z (m), yaw psi, pitch theta (rad); returns (time, 2, ...). Linear in
     the channels, so the path of a sum of responses is the sum of their paths."""

@@ -14,8 +14,8 @@ import numpy as np
 import xarray as xr
 from threadpoolctl import threadpool_limits
 
+from uavdamp.camera.image_quality import PIXEL_COMMENT
 from uavdamp.contract import SolverFailed
-from uavdamp.image_quality import PIXEL_COMMENT
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import chunks
 from uavdamp.reference_table import criteria as crit
