@@ -15,7 +15,7 @@ digest(
 SUMMARY_FIGURES = (
     {  # role (uavdamp.results.summary.FIGURES): figure under the output folder
         "blur": "figures/study_blur.png",
-        "strategies": f"figures/study_strategies/{STUDY_CASES[0]}.png",
+        "strategies": f"figures/study_strategies/{STUDY_FIGURES['case_1']}.png",  # not the first listed: key order changes nothing
         "fuselage": "figures/fuselage_vibration.png",
         "reference": "figures/reference_table.png",
     }
