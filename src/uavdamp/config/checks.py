@@ -61,6 +61,7 @@ def check_config(config: Config, benchmark: bool = False) -> dict:
     _check_run_length(config)
     _check_folds(config)
     _check_study(config)
+    _check_payload(config)
     _check_mounts(config)
     _check_scaling(config)
     _check_flight_log_files(config)
@@ -185,6 +186,7 @@ def _check_mounts(config: Config) -> None:
     known = sorted(config.sources)
     stated = {f"study.cases.{name}.source": case.stated for name, case in config.study.cases.items() if case.stated}
     stated |= {f"benchmark.sources[{k}]": name for k, name in enumerate(config.benchmark.sources)}
+    stated |= {f"payload.sources[{k}]": name for k, name in enumerate(config.payload.sources)}
     for key, name in stated.items():
         require(name in config.sources, key, f"{name!r} is not a name of the sources section ({known})")
     named = {f"study.cases.{name}.mount": case.mount for name, case in config.study.cases.items() if case.run}
@@ -286,6 +288,16 @@ def _check_rotor_physics(config: Config) -> None:
         f"N rho c Omega^2 a alpha_stall (R^3 - r_0^3) / 6 = {thrust:.4g} N (disc loading {thrust / area:.4g} N m-2; "
         "helicopter.main_rotor.omega_rad_s, blade_length_m, aerodynamics.main_blade chord_m, lift_slope_per_rad, "
         "stall_angle_rad, air_density_kg_m3): no trim exists",
+    )
+
+
+def _check_payload(config: Config) -> None:
+    """The payload stage reads the study's cases from their start: its runs are no longer than the study's."""
+    require(
+        config.payload.duration_s <= config.study.duration_s,
+        "payload.duration_s",
+        f"({config.payload.duration_s} s) must be at most study.duration_s ({config.study.duration_s} s): the "
+        "study's cases are that long",
     )
 
 

@@ -9,7 +9,8 @@ Sections (module: class): helicopter (`uavdamp.helicopter`: HelicopterSection), 
 PlatformSection), reference_table (`uavdamp.reference_table`: ReferenceTableSection), anfis (`uavdamp.anfis`:
 AnfisSection), study (`uavdamp.study.comparison`: StudySection), camera (`uavdamp.camera.optics`: CameraModel), budget
 (`uavdamp.config.budget`: Budget), benchmark (`BenchmarkSection` here: the scenarios', the runs' and the split's views),
-flight_logs (`uavdamp.sources.flight_log`: FlightLogSource per name).
+flight_logs (`uavdamp.sources.flight_log`: FlightLogSource per name), sources (`uavdamp.sources.stated`:
+StatedSource per name), payload (`uavdamp.study.payload`: PayloadSection).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from uavdamp.signals.tracking import TrackerOptions
 from uavdamp.sources.flight_log import FlightLogSource
 from uavdamp.sources.stated import StatedSource
 from uavdamp.study.comparison import StudyOptions, StudySection
+from uavdamp.study.payload import PayloadSection
 
 __all__ = ["Config", "ConfigError", "benchmark_options", "load", "study_options", "view"]
 
@@ -63,6 +65,7 @@ class Config:
     benchmark: BenchmarkSection
     flight_logs: dict[str, FlightLogSource]  # measured flights by name (the flight_log stage; cases name them)
     sources: dict[str, StatedSource]  # stated vibration sources by name (`uavdamp.sources.stated`; cases name them)
+    payload: PayloadSection  # the payload stage: payloads x mounts x damping on the cases and stated sources
 
     def validate(self) -> None:
         parts = self.output_dir.split("/")

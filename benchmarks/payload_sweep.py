@@ -1,0 +1,110 @@
+"""The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
+accelerometer range, its rate-loop crossover, a camera imbalance, and the six-axis isolator's stiffness (its modes).
+
+    python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc]
+
+Reads the merged config files (default config/config.yaml) and the study's cases written by a run of `all`; for
+each variant prints the gimbal's line-of-sight rms (µrad) per input on the rigid mount and on each isolator at its
+best constant damping (and that C), as a Markdown table. The numbers in docs/stages/payload.md come from it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+
+import numpy as np
+import yaml
+
+from uavdamp import io
+from uavdamp.camera.optics import CameraModel
+from uavdamp.platform import PlatformParams
+from uavdamp.settings import parse, view
+from uavdamp.sources.stated import StatedSource
+from uavdamp.study import payload
+
+URAD = 1e6
+
+
+def merged(paths: list[str]) -> dict:
+    """The config files merged as Snakemake merges them (later files override, section by section)."""
+    config: dict = {}
+    for path in paths:
+        _merge(config, yaml.safe_load(open(path)))
+    return config
+
+
+def _merge(base: dict, over: dict) -> None:
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(base.get(key), dict):
+            _merge(base[key], value)
+        else:
+            base[key] = value
+
+
+def variants(section: payload.PayloadSection, done: bool = False) -> dict[str, payload.PayloadSection]:
+    """The baseline and one change of one choice each (`done`: the baseline and the later half only)."""
+    g, six = section.gimbal, section.six_axis
+    out = {"baseline (config)": section}
+
+    def gimbal(**change):
+        return dataclasses.replace(section, gimbal=dataclasses.replace(g, **change))
+
+    if done:  # the variants measured already (their rows are in docs/stages/payload.md)
+        return {k: v for k, v in out.items() if k == "baseline (config)"} | _rest(section, g, six, gimbal)
+    out["estimator crossover 0 Hz (gyro alone)"] = gimbal(estimator_crossover_hz=0.0)
+    out["estimator crossover 0.16 Hz (1 s)"] = gimbal(estimator_crossover_hz=1 / (2 * np.pi))
+    out["accelerometer range 16 g"] = gimbal(accel_range_g=16.0)
+    out["rate crossover 20 Hz"] = gimbal(rate_crossover_hz=(20.0, 20.0, 20.0))
+    return out | _rest(section, g, six, gimbal)
+
+
+def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
+    out = {}
+    out["rate crossover 50 Hz (60 Hz with 50 deg cannot be designed at 1 kHz)"] = gimbal(
+        rate_crossover_hz=(50.0, 50.0, 50.0)
+    )
+    out["camera 2 mm above the axes"] = gimbal(imbalance_m=(0.0, 0.0, 0.002))
+    stiff = tuple(k * 4 for k in six.stiffness)
+    soft = tuple(k / 4 for k in six.stiffness)
+    out["six-axis stiffness x 4 (modes x 2)"] = dataclasses.replace(
+        section, six_axis=dataclasses.replace(six, stiffness=stiff)
+    )
+    out["six-axis stiffness / 4 (modes / 2)"] = dataclasses.replace(
+        section, six_axis=dataclasses.replace(six, stiffness=soft)
+    )
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("configs", nargs="*", default=["config/config.yaml"])
+    parser.add_argument("--cases", default="reports/excitation/cases.nc")
+    parser.add_argument("--rest", action="store_true", help="the baseline and the later half of the variants only")
+    args = parser.parse_args()
+    config = merged(args.configs)
+    base = dataclasses.replace(parse(payload.PayloadSection, config["payload"], "payload"), payloads=("gimbal",))
+    platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
+    camera = parse(CameraModel, config["camera"], "camera")
+    sources = {n: parse(StatedSource, config["sources"][n], f"sources.{n}") for n in base.sources}
+    cases = io.open_dataset(args.cases)
+    found = payload.inputs(cases, sources, base)
+    mounts = [m for m in base.mounts if m != "rigid"]
+    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "s"]
+    print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
+    for name, section in variants(base, args.rest).items():
+        start = time.perf_counter()
+        ds = payload.compare_inputs(found, section, platform, camera)
+        took = time.perf_counter() - start
+        for i in ds.input.values:
+            los = ds.los_rms.sel(input=i, payload="gimbal") * URAD
+            cells = [f"{float(los.sel(mount='rigid').isel(damping=0)):.0f}"] if "rigid" in base.mounts else []
+            for m in mounts:
+                best = float(ds.best_damping.sel(input=i, payload="gimbal", mount=m))
+                cells.append(f"{float(los.sel(mount=m, damping=best)):.0f} ({best:g})")
+            print(f"| {name} | {i} | " + " | ".join(cells) + f" | {took:.0f} |")
+
+
+if __name__ == "__main__":
+    main()

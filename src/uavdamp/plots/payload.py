@@ -1,0 +1,104 @@
+"""Payload figure: the camera's line of sight (µrad rms) per payload and mount against the isolator's damping, one
+panel per input, beside the gimbal makers' ±0.01° (175 µrad) angular-vibration anchor."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+
+from uavdamp.plots.style import number, plain_log_ticks  # noqa: E402
+
+URAD_PER_RAD = 1e6
+ANCHOR_URAD = 175.0  # ±0.01 deg: the angular vibration range gimbal makers quote (DJI)
+FLOOR_URAD = 10.0  # the axes' lower limit: values below it are drawn on it as downward triangles
+COLORS = {"paper_head": "tab:red", "balanced_head": "tab:orange", "gimbal": "tab:blue"}
+STYLES = {"rigid": ":", "yz": "--", "six_axis": "-"}
+LABELS = {
+    "paper_head": "paper's head",
+    "balanced_head": "head, balanced",
+    "gimbal": "stabilised gimbal",
+    "rigid": "rigid",
+    "yz": "Y-Z isolator",
+    "six_axis": "six-axis isolator",
+}
+
+
+def line_of_sight_figure(ds: xr.Dataset) -> Figure:
+    """LOS rms (µrad, log) against the constant damping C (N s/m, log) per payload (colour) and mount (line
+    style), one panel per input (`input`); the rigid mount, which has no damper, is a level line; the gimbal's
+    sensor-noise floor (`floor_los_rms`) dash-dotted grey where present; values below FLOOR_URAD on the axis as
+    downward triangles."""
+    inputs = [str(i) for i in ds.input.values]
+    ncols = min(3, len(inputs))
+    nrows = int(np.ceil(len(inputs) / ncols))
+    fig = Figure(figsize=(4.6 * ncols + 2.2, 3.4 * nrows + 0.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, sharex=True, squeeze=False)).ravel()
+    c = ds.damping.values
+    los = ds.los_rms * URAD_PER_RAD
+    for ax, name in zip(axes, inputs, strict=False):
+        for payload in ds.payload.values:
+            for mount in ds.mount.values:
+                y = los.sel(input=name, payload=payload, mount=mount).values
+                if not np.any(np.isfinite(y)):
+                    continue
+                color, below = COLORS.get(str(payload)), y < FLOOR_URAD
+                ax.plot(
+                    c, np.maximum(y, FLOOR_URAD), STYLES.get(str(mount), "-"), color=color, marker="o", ms=3, lw=1.3
+                )
+                if np.any(below):  # e.g. a balanced head under a source without rotation: no line of sight at all
+                    ax.plot(c[below], np.full(below.sum(), FLOOR_URAD), "v", color=color, ms=7, clip_on=False)
+        ax.axhline(ANCHOR_URAD, color="k", lw=0.8, alpha=0.6)
+        if "floor_los_rms" in ds and "gimbal" in ds.payload.values:
+            floor = float(ds.floor_los_rms.sel(payload="gimbal")) * URAD_PER_RAD
+            if floor > 0:
+                ax.axhline(floor, color="0.5", lw=0.8, ls="-.")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_ylim(bottom=FLOOR_URAD)
+        plain_log_ticks(ax, "y")
+        plain_log_ticks(ax, "x")
+        title = str(ds.input_description.sel(input=name).item()) if "input_description" in ds else name
+        ax.set_title(_wrap(f"{name}: {title}", 55), fontsize=9)
+        ax.set_ylabel("line of sight rms (µrad)")
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in axes[len(inputs) :]:
+        ax.set_visible(False)
+    for ax in axes[-ncols:]:
+        ax.set_xlabel("damping C of the isolator's dampers (N s/m)")
+    fig.legend(*_legend(ds), loc="outside right upper", fontsize=8)
+    window = f"over {number(float(ds.attrs.get('settle_s', 0)))}-{number(float(ds.attrs.get('duration_s', 0)))} s"
+    fig.suptitle(f"Camera line of sight per payload and mount ({window})", fontsize=11)
+    return fig
+
+
+def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
+    """Proxy entries: a colour per payload, a line style per mount, the anchor and the noise floor (at most 8)."""
+    handles = [Line2D([], [], color=COLORS.get(str(p)), lw=2) for p in ds.payload.values]
+    labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
+    handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]
+    labels += [LABELS.get(str(m), str(m)) for m in ds.mount.values]
+    handles.append(Line2D([], [], color="k", lw=0.8, alpha=0.6))
+    labels.append("±0.01° (175 µrad)")
+    if "floor_los_rms" in ds and "gimbal" in ds.payload.values:
+        handles.append(Line2D([], [], color="0.5", lw=0.8, ls="-."))
+        labels.append("gimbal's sensor-noise floor")
+    return handles, labels
+
+
+def _wrap(text: str, width: int) -> str:
+    """Text broken at spaces into lines of at most `width` characters."""
+    lines, line = [], ""
+    for word in text.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}".strip()
+    lines.append(line)
+    return "\n".join(lines[:3]) + (" …" if len(lines) > 3 else "")

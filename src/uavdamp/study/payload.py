@@ -1,0 +1,417 @@
+"""The payload comparison: the paper's pan-tilt head, the same head balanced, and a gyro-stabilised gimbal, each on
+a rigid mount, the paper's Y-Z isolator and a six-axis isolator, over constant damping candidates.
+
+Payloads: ``paper_head`` (the platform as configured: the camera's centre of mass off the tilt axis),
+``balanced_head`` (the same with the camera's centre of mass on the axes: ``camera_com_x_m`` = ``camera_com_z_m`` = 0)
+and ``gimbal`` (`uavdamp.platform.gimbal`, designed from ``payload.gimbal``). Mounts: ``rigid`` (no isolator),
+``yz`` (the paper's isolator, K = ``yz_stiffness_n_m``: the heads on their own plant, the gimbal on
+`uavdamp.platform.six_axis.paper_yz`) and ``six_axis`` (`six_axis_isolator`: the gimbal only; the heads' plant has
+a Y-Z isolator alone, so NaN). Every run is scored by `uavdamp.study.payload_runs.run_metrics`; the inputs are the
+study's cases and the stated sources ``payload.sources`` names (`inputs`, `compare_inputs`).
+
+Choices and assumptions:
+- The gimbal's moving mass besides the camera (brackets, motors) is `MECHANISM_MASS_KG` (choice); the isolated
+  payload is camera + mechanism + plate (``six_axis.plate_mass_kg``): 0.9 + 0.3 + 0.3 = 1.5 kg by default, its
+  centre of mass ``com_height_m`` above the elements' plane, the plate (a thin square of side 2 ``half_spacing_m``)
+  in that plane and the gimbal's axes (the balanced camera's centre of mass, the optical centre) above it at the
+  height that puts the whole centre of mass there (`gimbal_height`: 0.075 m by default). The same point carries
+  the gimbal on every mount; the mount motion is that of the mount's reference point (the elements' centre).
+- One-way coupling: the gimbal motors' reaction torque on the isolated body is left out of the body's motion
+  (`uavdamp.platform.gimbal_loop.design_report` sizes it).
+- Every gimbal run draws its IMU noise from a fresh Generator of ``payload.seed`` (common random numbers: runs
+  differ by the mount alone); ``floor_los_rms`` is the gimbal on a still mount (the heads': 0).
+- The six-axis isolator carries the gimbal's gravity (geometric stiffness); every element's damper is semi-active
+  at the candidate C along x, y and z. Its modes by default (`design_dataset`): 2.77 Hz (x + ry), 2.79 (y + rx),
+  5.81 (z), 6.48 (rz), 7.86 (ry + x), 8.17 Hz (rx + y); the Y-Z isolator's under the 1.5 kg gimbal: 4.11 Hz (y, z,
+  the rest near-rigid at 1 kHz); the gimbal's rate loops cross at 40 Hz (50 deg; whole loop 39.7 deg, 9.6 dB),
+  its attitude loops at 8 Hz. The heads' Y-Z damper takes the same C (within the platform's damper
+  bounds); a head's roll is the mount's (`uavdamp.study.payload_runs`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import NamedTuple
+
+import numpy as np
+import xarray as xr
+from scipy import signal
+
+from uavdamp.camera.optics import CameraModel
+from uavdamp.contract import MountMotion, is_multiple
+from uavdamp.platform import PlatformParams
+from uavdamp.platform.gimbal import AXES, GimbalParams, design
+from uavdamp.platform.gimbal_loop import design_report
+from uavdamp.platform.imu import STANDARD_GRAVITY, ImuParams
+from uavdamp.platform.plants import Plants
+from uavdamp.platform.six_axis import DOFS, KINDS, dominant_dofs, rigid_body_modes
+from uavdamp.settings import ConfigError, require, setting
+from uavdamp.sources.excitation import case_motion
+from uavdamp.sources.stated import StatedSource, motion
+from uavdamp.study import payload_runs as runs
+from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face)
+    MECHANISM_MASS_KG,
+    gimbal_height,
+    gimbal_mass,
+    gimbal_params,
+    gimbal_payload,
+    isolator,
+    six_axis_isolator,
+    yz_isolator,
+)
+
+PAYLOADS = ("paper_head", "balanced_head", "gimbal")
+MOUNTS = ("rigid", "yz", "six_axis")
+HEADS = ("paper_head", "balanced_head")
+
+
+@dataclass(frozen=True)
+class GimbalSection:
+    """The gimbal (``payload.gimbal``): `uavdamp.platform.gimbal.GimbalParams`' defaults for the keys not here."""
+
+    axes: tuple[str, ...] = setting(default=("roll", "pitch", "yaw"))
+    loop_rate_hz: float = setting(default=1000.0)  # Hz
+    rate_crossover_hz: tuple[float, ...] = setting(default=(40.0, 40.0, 40.0), length=3)  # Hz, roll, pitch, yaw
+    phase_margin_deg: tuple[float, ...] = setting(default=(50.0, 50.0, 50.0), length=3)  # deg, roll, pitch, yaw
+    attitude_fraction: float = setting(default=0.2)  # 1, attitude crossover / rate crossover
+    torque_constant: float = setting("torque_constant_n_m_a", default=0.12)  # N m A-1
+    current_limit: float = setting("current_limit_a", default=2.0)  # A
+    imbalance_m: tuple[float, ...] = setting(default=(0.0, 0.0, 0.0), length=3)  # m, camera COM from the axes
+    sensor_errors: bool = setting(default=True)  # the IMU's noise, bias and quantisation
+    # Hz, the complementary filter's crossover (accelerometer below, gyro above): BruGi's 7 s by default
+    estimator_crossover_hz: float = setting(default=1.0 / (2 * math.pi * 7.0))
+    accel_range_g: float = setting(default=2.0)  # g, the IMU accelerometer's full scale +/-
+
+    def params(self) -> GimbalParams:
+        """The `GimbalParams` of this section (its own checks)."""
+        return GimbalParams(
+            axes=tuple(self.axes),
+            loop_rate_hz=self.loop_rate_hz,
+            rate_crossover_hz=tuple(self.rate_crossover_hz),
+            phase_margin_deg=tuple(self.phase_margin_deg),
+            attitude_fraction=self.attitude_fraction,
+            torque_constant=self.torque_constant,
+            current_limit=self.current_limit,
+            imbalance_m=tuple(self.imbalance_m),
+            estimator_crossover_hz=self.estimator_crossover_hz,
+            imu=ImuParams(accel_range=self.accel_range_g * STANDARD_GRAVITY),
+        )
+
+    def validate(self, where: str) -> None:
+        try:
+            design(self.params())  # GimbalParams' checks and a gain design that exists
+        except ConfigError as error:  # its messages start "gimbal.<key>"
+            raise ConfigError(f"{where.rsplit('.', 1)[0]}.{error}") from None
+
+
+@dataclass(frozen=True)
+class SixAxisSection:
+    """The six-axis isolator (``payload.six_axis``): four equal elements on a square (`square_layout`)."""
+
+    kind: str = setting(default="rubber_ball")  # of uavdamp.platform.six_axis.KINDS
+    half_spacing: float = setting("half_spacing_m", default=0.05)  # m
+    stiffness: tuple[float, ...] = setting("stiffness_n_m", default=(250.0, 250.0, 500.0), length=3)  # N m-1
+    plate_mass: float = setting("plate_mass_kg", default=0.3)  # kg, isolated plate + gimbal base
+    com_height: float = setting("com_height_m", default=0.06)  # m, payload COM above the elements (< 0: below)
+
+    def validate(self, where: str) -> None:
+        require(self.kind in KINDS, f"{where}.kind", f"must be one of {list(KINDS)}, got {self.kind!r}")
+        require(self.half_spacing > 0, f"{where}.half_spacing_m", f"must be > 0, got {self.half_spacing}")
+        require(min(self.stiffness) > 0, f"{where}.stiffness_n_m", f"must be > 0, got {list(self.stiffness)}")
+        require(self.plate_mass >= 0, f"{where}.plate_mass_kg", f"must be >= 0, got {self.plate_mass}")
+
+
+@dataclass(frozen=True)
+class PayloadSection:
+    """The config section ``payload`` (module docstring), SI units."""
+
+    payloads: tuple[str, ...] = setting(default=PAYLOADS)
+    mounts: tuple[str, ...] = setting(default=MOUNTS)
+    duration_s: float = setting(default=5.0)  # s, of each input from its start
+    settle_s: float = setting(default=1.0)  # s, metrics over [settle_s, duration_s]
+    time_step_s: float = setting(default=5.0e-4)  # s, the runs' grid
+    yz_stiffness: float = setting("yz_stiffness_n_m", default=1000.0)  # N m-1, K of the Y-Z isolator
+    damping: tuple[float, ...] = setting("damping_n_s_m", default=(1.0, 3.0, 10.0, 30.0, 100.0))  # N s m-1
+    seed: int = setting(default=0)  # the gimbal IMU's noise
+    sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
+    gimbal: GimbalSection = setting(default=GimbalSection())
+    six_axis: SixAxisSection = setting(default=SixAxisSection())
+
+    def validate(self) -> None:
+        w = "payload."
+        for key, allowed in (("payloads", PAYLOADS), ("mounts", MOUNTS)):
+            names = getattr(self, key)
+            ok = 0 < len(names) == len(set(names)) and set(names) <= set(allowed)
+            require(ok, w + key, f"must be distinct names of {list(allowed)}, got {list(names)}")
+        require(self.duration_s > 0, w + "duration_s", f"must be > 0, got {self.duration_s}")
+        ok = 0 <= self.settle_s < self.duration_s
+        require(ok, w + "settle_s", f"must lie in [0, duration_s), got {self.settle_s}")
+        period = 1.0 / self.gimbal.loop_rate_hz
+        ok = self.time_step_s > 0 and is_multiple(period, self.time_step_s)
+        require(ok, w + "time_step_s", f"({self.time_step_s} s) must divide the gimbal loop period {period} s")
+        require(self.yz_stiffness > 0, w + "yz_stiffness_n_m", f"must be > 0, got {self.yz_stiffness}")
+        c = self.damping
+        ok = len(c) > 0 and len(set(c)) == len(c) and min(c) >= 0
+        require(ok, w + "damping_n_s_m", f"needs distinct values >= 0 N s m-1, got {list(c)}")
+        require(self.seed >= 0, w + "seed", f"must be >= 0, got {self.seed}")
+        require(len(set(self.sources)) == len(self.sources), w + "sources", "names must be unique")
+        try:
+            six_axis_isolator(self, c[0])
+        except ValueError as error:
+            raise ConfigError(f"{w}six_axis: the isolator cannot carry the payload ({error})") from None
+
+    @property
+    def middle_damping(self) -> float:
+        """The middle candidate C (the upper middle of an even count), N s m-1."""
+        return float(sorted(self.damping)[len(self.damping) // 2])
+
+
+def head_platform(platform: PlatformParams, payload: str, time_step: float) -> PlatformParams:
+    """The platform of a head payload on the runs' grid (time_step s; the update period rounded to a multiple of
+    it: a constant law needs no particular one); ``balanced_head`` with the camera's centre of mass on the axes."""
+    s = platform.structure
+    if payload == "balanced_head":
+        s = dataclasses.replace(s, camera_com_x=0.0, camera_com_z=0.0)
+    period = time_step * max(1, round(platform.isolator.update_period / time_step))
+    return dataclasses.replace(
+        platform,
+        structure=s,
+        solver=dataclasses.replace(platform.solver, time_step=time_step),
+        isolator=dataclasses.replace(platform.isolator, update_period=period),
+    )
+
+
+def modelled(payload: str, mount: str) -> bool:
+    """False where the comparison has no model: a head on the six-axis mount (its plant has a Y-Z isolator only)."""
+    return not (payload in HEADS and mount == "six_axis")
+
+
+@dataclass(frozen=True)
+class _Setup:
+    """What every run of one comparison shares."""
+
+    section: PayloadSection
+    gimbal: GimbalParams
+    gains: dict
+    lever: tuple[float, float, float]  # m, the gimbal's axes from the mount's reference point
+    plants: dict  # head payload -> its Plants
+    camera: CameraModel
+
+
+def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraModel) -> _Setup:
+    heads = [p for p in section.payloads if p in HEADS]
+    if heads and "yz" in section.mounts:
+        lo, hi = platform.damping_min, platform.damping_max
+        ok = lo <= min(section.damping) and max(section.damping) <= hi
+        require(ok, "payload.damping_n_s_m", f"the heads' damper takes [{lo}, {hi}] N s m-1: {section.damping}")
+    plants = {p: Plants(head_platform(platform, p, section.time_step_s)) for p in heads}
+    g = gimbal_params(section)
+    return _Setup(section, g, design(g), (0.0, 0.0, gimbal_height(section)), plants, camera)
+
+
+def _input(time, mount: MountMotion, section: PayloadSection) -> tuple[np.ndarray, MountMotion]:
+    """The input from its start on the runs' grid, cut at duration_s; ValueError naming payload.duration_s.
+
+    Band-limited (`resampled`): the gimbal's IMU reads the mount's acceleration, the second derivative of the
+    motion, and a linear interpolation's is a train of spikes at the input's samples."""
+    t = np.asarray(time, dtype=float)
+    grid, moved = resampled(t - t[0], mount, section.time_step_s)
+    n = int(round(section.duration_s / section.time_step_s)) + 1
+    if grid.size < n:
+        raise ValueError(f"payload.duration_s: {section.duration_s} s is longer than the input ({grid[-1]} s)")
+    return grid[:n], MountMotion(moved.translation[:, :n], moved.rotation[:, :n])
+
+
+def resampled(time: np.ndarray, mount: MountMotion, h: float) -> tuple[np.ndarray, MountMotion]:
+    """The motion (uniform `time` from 0, s) on the grid 0, h, 2h, ... by polyphase band-limited resampling
+    (`scipy.signal.resample_poly`, the input's step over h a ratio of integers up to 1000; ValueError otherwise)
+    through a Kaiser (beta 12, about 120 dB) low-pass at 0.9 of the input's Nyquist frequency, 40 input samples
+    either side: the acceleration of a line below 0.2 of the Nyquist frequency within 0.1 %, at 0.2 within 1 %
+    (tests/test_payload.py); scipy's default filter (beta 5) left images whose second derivative was 86 % of a
+    7 Hz line's sampled at 200 Hz."""
+    dt = float(time[1] - time[0])
+    ratio = Fraction(dt / h).limit_denominator(1000)
+    if not math.isclose(float(ratio), dt / h, rel_tol=1e-9):
+        raise ValueError(f"payload.time_step_s: {h} s is not a rational fraction of the input's step {dt} s")
+    up, down = ratio.numerator, ratio.denominator
+    taps = signal.firwin(2 * 40 * max(up, down) + 1, 0.9 / max(up, down), window=("kaiser", 12.0))
+    series = np.vstack([mount.translation, mount.rotation])
+    out = signal.resample_poly(series, up, down, axis=1, window=taps, padtype="line")
+    n = min(out.shape[1], int(math.floor(time[-1] / h + 1e-9)) + 1)
+    return np.arange(n) * h, MountMotion(out[:3, :n], out[3:, :n])
+
+
+def _series(setup: _Setup, t: np.ndarray, moved: MountMotion, payload: str, mount: str, c: float) -> runs.Series:
+    """One run: `payload` on `mount` at C (N s m-1) under the gridded input (t s, moved)."""
+    s = setup.section
+    if payload in HEADS:
+        return runs.head_series(setup.plants[payload], mount, t, moved, s.yz_stiffness, c)
+    found = isolator(s, mount, c)
+    body = runs.rigid_motion(t, moved) if found is None else runs.isolated_motion(found, t, moved)
+    errors = s.gimbal.sensor_errors
+    return runs.gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
+
+
+def _values(setup: _Setup, time, mount: MountMotion) -> dict[str, np.ndarray]:
+    """Every metric of `payload_runs.METRICS` over (payload, mount, damping); NaN where not modelled, the rigid
+    mount's value at every C."""
+    s = setup.section
+    t, moved = _input(time, mount, s)
+    values = {name: np.full((len(s.payloads), len(s.mounts), len(s.damping)), math.nan) for name in runs.METRICS}
+    for (i, payload), (j, where) in ((a, b) for a in enumerate(s.payloads) for b in enumerate(s.mounts)):
+        if not modelled(payload, where):
+            continue
+        for k, c in [(slice(None), math.nan)] if where == "rigid" else enumerate(s.damping):
+            series = _series(setup, t, moved, payload, where, c)
+            for name, value in runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s).items():
+                values[name][i, j, k] = value
+    return values
+
+
+def _floor(setup: _Setup) -> np.ndarray:
+    """LOS rms (rad) of each payload on a still mount: the gimbal's sensor floor, 0 for a head."""
+    s = setup.section
+    out = np.zeros(len(s.payloads))
+    if "gimbal" in s.payloads:
+        t = np.arange(int(round(s.duration_s / s.time_step_s)) + 1) * s.time_step_s
+        still = MountMotion(np.zeros((3, t.size)), np.zeros((3, t.size)))
+        series = _series(setup, t, still, "gimbal", "rigid", math.nan)
+        out[s.payloads.index("gimbal")] = runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)["los_rms"]
+    return out
+
+
+def compare_payloads(
+    time, mount: MountMotion, section: PayloadSection, platform: PlatformParams, camera: CameraModel
+) -> xr.Dataset:
+    """Every payload x mount x damping candidate (module docstring) under the mount motion (time s, any start;
+    the first ``duration_s`` of it on the ``time_step_s`` grid): the metrics of `payload_runs.METRICS` over
+    (payload, mount, damping), NaN where not modelled (`modelled`), the rigid mount's the same at every C;
+    ``best_damping`` (payload, mount) the C of the least ``los_rms`` (NaN: rigid, not modelled) and
+    ``floor_los_rms`` (payload) the LOS rms on a still mount. Assumptions: module docstring."""
+    setup = _setup(section, platform, camera)
+    return _dataset(setup, _values(setup, time, mount), _floor(setup))
+
+
+class PayloadInput(NamedTuple):
+    """One input of the comparison: its name, a description, time (s) and the mount motion."""
+
+    name: str
+    description: str
+    time: np.ndarray
+    mount: MountMotion
+
+
+def inputs(cases: xr.Dataset, sources: dict[str, StatedSource], section: PayloadSection) -> list[PayloadInput]:
+    """The study's cases (a `uavdamp.sources.excitation` cases dataset) and the stated sources ``payload.sources``
+    names (`sources`: name -> `StatedSource`, generated over ``duration_s``), in that order."""
+    found = []
+    for case in cases.case.values:
+        text = str(cases.description.sel(case=case).item()) if "description" in cases else ""
+        found.append(PayloadInput(str(case), text, cases.time.values, case_motion(cases, case)))
+    for k, name in enumerate(section.sources):
+        require(name in sources, f"payload.sources[{k}]", f"{name!r} is not a stated source ({sorted(sources)})")
+        t, moved, _ = motion(sources[name], section.duration_s)
+        found.append(PayloadInput(name, sources[name].description or sources[name].kind, t, moved))
+    return found
+
+
+def compare_inputs(
+    found: list[PayloadInput], section: PayloadSection, platform: PlatformParams, camera: CameraModel
+) -> xr.Dataset:
+    """`compare_payloads` of every input, stacked over ``input`` (with ``input_description``); the still mount's
+    ``floor_los_rms`` once (it does not depend on the input)."""
+    require(len(found) > 0, "payload.sources", "no input: the study has no case and payload.sources is empty")
+    setup = _setup(section, platform, camera)
+    floor = _floor(setup)
+    per_input = [_dataset(setup, _values(setup, i.time, i.mount), floor) for i in found]
+    names = [i.name for i in found]
+    ds = xr.concat([d.drop_vars("floor_los_rms") for d in per_input], dim="input", combine_attrs="override")
+    ds = ds.assign_coords(input=("input", names, {"units": "1", "long_name": "input (study case or stated source)"}))
+    ds["input_description"] = ("input", [i.description for i in found], {"units": "1", "long_name": "the input"})
+    ds["floor_los_rms"] = per_input[0].floor_los_rms
+    return ds
+
+
+def _best_damping(section: PayloadSection, los_rms: np.ndarray) -> np.ndarray:
+    """(payload, mount) the candidate C of the least LOS rms; NaN for the rigid mount and where not modelled."""
+    out = np.full(los_rms.shape[:2], math.nan)
+    for i, j in np.ndindex(out.shape):
+        if section.mounts[j] != "rigid" and np.isfinite(los_rms[i, j]).any():
+            out[i, j] = section.damping[int(np.nanargmin(los_rms[i, j]))]
+    return out
+
+
+def _dataset(setup: _Setup, values: dict, floor: np.ndarray) -> xr.Dataset:
+    s = setup.section
+    dims = ("payload", "mount", "damping")
+    data = {name: (dims, v, runs.metric_attrs(name)) for name, v in values.items()}
+    data["best_damping"] = (
+        ("payload", "mount"),
+        _best_damping(s, values["los_rms"]),
+        {"units": "N s m-1", "long_name": "constant damping of the least line-of-sight rms (NaN: rigid mount)"},
+    )
+    data["floor_los_rms"] = (
+        ("payload",),
+        floor,
+        {"units": "rad", "long_name": "line-of-sight rms on a still mount (the gimbal's sensor floor; heads 0)"},
+    )
+    coords = {
+        "payload": ("payload", list(s.payloads), {"units": "1", "long_name": "camera payload"}),
+        "mount": ("mount", list(s.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
+        "damping": ("damping", np.asarray(s.damping, dtype=float), {"units": "N s m-1", "long_name": "damping C"}),
+    }
+    attrs = {
+        "title": "Camera payloads (pan-tilt heads, stabilised gimbal) on rigid, Y-Z and six-axis mounts",
+        "settle_s": s.settle_s,
+        "duration_s": s.duration_s,
+        "time_step_s": s.time_step_s,
+        "yz_stiffness_N_m": s.yz_stiffness,
+        "gimbal_payload_mass_kg": gimbal_payload(s).mass,
+        "gimbal_height_m": setup.lever[2],
+        "seed": s.seed,
+        "coupling": "one-way: the gimbal motors' reaction torque on the isolated body is left out",
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _modes(section: PayloadSection) -> tuple[np.ndarray, np.ndarray]:
+    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and "")."""
+    freqs = np.full((len(section.mounts), len(DOFS)), math.nan)
+    labels = np.full(freqs.shape, "", dtype=object)
+    for j, mount in enumerate(section.mounts):
+        found = isolator(section, mount, section.middle_damping)
+        if found is not None:
+            freqs[j], shapes = rigid_body_modes(found)
+            labels[j] = ["+".join(d) for d in dominant_dofs(shapes, found.payload)]
+    return freqs, labels.astype(str)
+
+
+def design_dataset(section: PayloadSection) -> xr.Dataset:
+    """The mounts' six rigid-body modes (Hz, at the middle C; rigid: NaN) with their dominant DOFs beside the
+    gimbal's designed and achieved loop crossovers and margins per stabilised axis (`gimbal_loop.design_report`)."""
+    freqs, labels = _modes(section)
+    p = gimbal_params(section)
+    report = design_report(p)
+    axes = list(report.axis.values)
+    designed = [p.rate_crossover_hz[AXES.index(a)] for a in axes]
+    per_axis = {
+        "rate_crossover_design": (designed, "Hz", "rate loop crossover specified"),
+        "rate_crossover": (report.rate_crossover_hz.values, "Hz", "rate loop crossover achieved"),
+        "rate_phase_margin": (report.rate_phase_margin_deg.values, "deg", "rate loop phase margin achieved"),
+        "whole_phase_margin": (report.whole_phase_margin_deg.values, "deg", "whole loop phase margin (at the torque)"),
+        "whole_gain_margin": (report.whole_gain_margin_db.values, "dB", "whole loop gain margin (at the torque)"),
+        "attitude_crossover": (report.attitude_crossover_hz.values, "Hz", "attitude loop crossover achieved"),
+    }
+    data = {k: (("axis",), np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in per_axis.items()}
+    data["mode_frequency"] = (("mount", "mode"), freqs, {"units": "Hz", "long_name": "isolator rigid-body mode"})
+    data["mode_dofs"] = (("mount", "mode"), labels, {"units": "1", "long_name": "dominant DOFs of the mode (energy)"})
+    coords = {
+        "mount": ("mount", list(section.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
+        "mode": ("mode", np.arange(len(DOFS)), {"units": "1", "long_name": "rigid-body mode, ascending frequency"}),
+        "axis": ("axis", axes, {"units": "1", "long_name": "stabilised gimbal axis"}),
+    }
+    attrs = {"damping_N_s_m": section.middle_damping, "gimbal_payload_mass_kg": gimbal_payload(section).mass}
+    return xr.Dataset(data, coords=coords, attrs=attrs)

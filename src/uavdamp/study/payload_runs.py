@@ -1,0 +1,244 @@
+"""One run of the payload comparison (`uavdamp.study.payload`): a payload on a mount, and the camera's metrics.
+
+A run gives the camera's line of sight (roll, pitch, yaw, rad, inertial) and the translation (y, z, m, from its
+start) of its optical centre; `run_metrics` turns them into the comparison's numbers. The mounts' bodies
+(`BodyMotion`): the rigid mount is the mount motion itself (its rates and accelerations by second-order finite
+differences of the samples: nothing better is known of a sampled input); an isolated mount is the six-axis
+model's exact solution for a first-order-hold input (`isolated_motion`: the same step map and start as
+`uavdamp.platform.six_axis_run.run`, its rates the state's, its accelerations their central differences). The
+gimbal (`gimbal_series`) stands on that body at the point `lever` (m, from the mount's reference point) and is run
+by `uavdamp.platform.gimbal_sim.simulate` with one-way coupling (the motors' reaction torque on the body is left
+out); an axis it does not stabilise follows the body. The pan-tilt heads (`head_series`) run on the platform's own
+plants (`uavdamp.platform.plants`); their roll is the mount's rotation about x (assumption, first order: the head
+has no roll joint and the paper's isolator is rigid in rotation). The gimbal's body and isolators are built here
+from the section (`gimbal_payload`, `six_axis_isolator`, `yz_isolator`; `uavdamp.study.payload` re-exports them).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from uavdamp.camera.image_quality import frame_summary, frames_from_image_path, line_of_sight_stats, pixel_attrs
+from uavdamp.camera.optics import CameraModel, image_displacement_px
+from uavdamp.contract import MountMotion
+from uavdamp.damping.laws import Constant
+from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia
+from uavdamp.platform.gimbal_sim import simulate
+from uavdamp.platform.six_axis import (
+    Payload,
+    SixAxisIsolator,
+    paper_yz,
+    square_layout,
+    state_space,
+    strokes_matrix,
+    transform,
+)
+from uavdamp.platform.statespace import discretise, lift, propagate
+
+MECHANISM_MASS_KG = 0.3  # kg, the gimbal's brackets and motors (choice: three ~70 g motors and ~90 g of brackets)
+
+
+# ----------------------------------------------------------------- the gimbal's body and isolators (`section`: a
+# `uavdamp.study.payload.PayloadSection`)
+
+
+def gimbal_params(section) -> GimbalParams:
+    """The gimbal of ``payload.gimbal``."""
+    return section.gimbal.params()
+
+
+def gimbal_mass(section) -> float:
+    """The gimbal's moving mass, camera included, kg: camera + `MECHANISM_MASS_KG`."""
+    return gimbal_params(section).camera_mass + MECHANISM_MASS_KG
+
+
+def gimbal_height(section) -> float:
+    """Height of the gimbal's axes above the elements' plane, m: M h / m_g, so that the plate (in the plane) and
+    the gimbal put the payload's centre of mass at h = ``six_axis.com_height_m``."""
+    s = section.six_axis
+    return (gimbal_mass(section) + s.plate_mass) * s.com_height / gimbal_mass(section)
+
+
+def gimbal_payload(section) -> Payload:
+    """The isolated payload: camera + mechanism + plate, kg; centre of mass (0, 0, h) m; inertia about it, kg m2:
+    the camera box and the stabilised axes' brackets (`uavdamp.platform.gimbal`) at the gimbal's axes, the plate
+    a thin square of side 2 ``half_spacing_m`` in the elements' plane, each moved to the centre of mass."""
+    p, s = gimbal_params(section), section.six_axis
+    m_g, side, h = gimbal_mass(section), 2 * s.half_spacing, s.com_height
+    gimbal = camera_inertia(p) + sum(np.asarray(p.bracket_inertia[CHAIN.index(a)]) for a in p.axes)
+    plate = s.plate_mass * side**2 / 12 * np.array([1.0, 1.0, 2.0])
+    shift = (m_g * (gimbal_height(section) - h) ** 2 + s.plate_mass * h**2) * np.array([1.0, 1.0, 0.0])
+    return Payload(m_g + s.plate_mass, (0.0, 0.0, h), tuple(map(tuple, np.diag(gimbal + plate + shift))))
+
+
+def six_axis_isolator(section, c: float) -> SixAxisIsolator:
+    """The gimbal's six-axis isolator: `square_layout` of ``payload.six_axis``, every element semi-active with
+    damping C (N s m-1) along x, y and z, under the gimbal's gravity (geometric stiffness)."""
+    s = section.six_axis
+    return square_layout(
+        gimbal_payload(section),
+        s.half_spacing,
+        tuple(s.stiffness),
+        (c, c, c),
+        kind=s.kind,
+        semi_active=True,
+        gravity=gimbal_params(section).gravity,
+    )
+
+
+def yz_isolator(section, mass: float, c: float) -> SixAxisIsolator:
+    """The paper's Y-Z isolator (`paper_yz`) under `mass` kg at K = ``yz_stiffness_n_m`` and C (N s m-1)."""
+    return paper_yz(mass, section.yz_stiffness, c)
+
+
+def isolator(section, mount: str, c: float) -> SixAxisIsolator | None:
+    """The gimbal's isolator on `mount` ("rigid", "yz", "six_axis") at C (N s m-1): None for the rigid mount."""
+    if mount == "rigid":
+        return None
+    if mount == "yz":
+        return yz_isolator(section, gimbal_payload(section).mass, c)
+    return six_axis_isolator(section, c)
+
+
+# ----------------------------------------------------------------------------------------------------- runs
+
+
+class BodyMotion(NamedTuple):
+    """A rigid body's 6-DOF motion at the mount's reference point: coordinates (6, n) m and rad, their rates
+    (6, n) m s-1 and rad s-1, accelerations (6, n) m s-2 and rad s-2 (x, y, z, rx, ry, rz, mount axes), and the
+    largest |element stroke| along an element axis over the run, m (NaN: no isolator)."""
+
+    coordinates: np.ndarray
+    rates: np.ndarray
+    accelerations: np.ndarray
+    peak_stroke: float
+
+
+class Series(NamedTuple):
+    """What the camera does in one run: line-of-sight roll, pitch (positive down), yaw (rad, inertial) and the
+    optical centre's y, z (m, from its start), each (n,); saturated (axes, n) the gimbal's torque-limit flags
+    (None for a head); peak_stroke m (NaN: rigid)."""
+
+    roll: np.ndarray
+    pitch: np.ndarray
+    yaw: np.ndarray
+    y: np.ndarray
+    z: np.ndarray
+    saturated: np.ndarray | None
+    peak_stroke: float
+
+
+def _coordinates(mount: MountMotion) -> np.ndarray:
+    """The mount's 6-DOF coordinates (n, 6): translation m, rotation rad."""
+    return np.vstack([np.asarray(mount.translation, dtype=float), np.asarray(mount.rotation, dtype=float)]).T
+
+
+def rigid_motion(time: np.ndarray, mount: MountMotion) -> BodyMotion:
+    """The rigid mount: the body is the mount; rates and accelerations by second-order finite differences (the
+    rotation vector's rate taken as the angular rate: small rotations)."""
+    u = _coordinates(mount).T
+    h = float(time[1] - time[0])
+    rates = np.gradient(u, h, axis=1, edge_order=2)
+    return BodyMotion(u, rates, np.gradient(rates, h, axis=1, edge_order=2), math.nan)
+
+
+def isolated_motion(isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion) -> BodyMotion:
+    """The payload of `isolator` (its elements' own damping) under the mount motion: coordinates and rates exact
+    for a first-order-hold input (the exact step map from q = u, q' = the first slope, as `six_axis_run.run`);
+    accelerations the central differences of those rates (second order: the equations of motion's value at a
+    sample would carry the input's slope jump there, an artefact of the sampled input that a stiff element turns
+    into a spike)."""
+    u = _coordinates(mount)
+    h = float(time[1] - time[0])
+    slopes = np.diff(u, axis=0) / h
+    step = discretise(state_space(isolator), h)
+    z = propagate(step, np.concatenate([u[0], slopes[0]]), u[:-1], slopes, lift(step.phi))
+    strokes = (z[:, :6] - u) @ strokes_matrix(isolator).T
+    rates = z[:, 6:].T
+    accelerations = np.gradient(rates, h, axis=1, edge_order=2)
+    return BodyMotion(z[:, :6].T, rates, accelerations, float(np.abs(strokes).max()))
+
+
+def gimbal_series(
+    p: GimbalParams,
+    gains: dict[str, AxisGains],
+    time: np.ndarray,
+    body: BodyMotion,
+    lever,
+    *,
+    sensor_errors: bool,
+    seed: int,
+) -> Series:
+    """The gimbal at `lever` (m, from the body's reference point) on `body`: its base rotation, rate and the
+    point's acceleration (linear kinematics, T(lever) q'') into `simulate`, a fresh Generator of `seed` per run
+    (common random numbers). The optical centre at the gimbal's axes: translation T(lever) q from its start."""
+    t_point = transform(lever)
+    acceleration = t_point @ body.accelerations
+    rotation, rate = body.coordinates[3:], body.rates[3:]
+    rng = np.random.default_rng(seed)
+    ds = simulate(p, time, rotation, rate, acceleration, gains=gains, sensor_errors=sensor_errors, rng=rng)
+    angles = rotation.copy()
+    for axis in ds.axis.values:
+        angles[AXES.index(str(axis))] = ds.line_of_sight.sel(axis=axis).values
+    translation = t_point @ body.coordinates
+    translation = translation - translation[:, :1]
+    saturated = ds.torque_saturated.values.astype(float)
+    return Series(angles[0], angles[1], angles[2], translation[1], translation[2], saturated, body.peak_stroke)
+
+
+def head_series(plants, mount_kind: str, time: np.ndarray, mount: MountMotion, stiffness: float, damping: float):
+    """A pan-tilt head on its plant: `mount_kind` "rigid" or "yz" (the isolated mount at K `stiffness` N m-1 and a
+    constant C `damping` N s m-1)."""
+    law = None if mount_kind == "rigid" else Constant(damping)
+    plant = plants.for_run("rigid" if law is None else "isolated", law)
+    r = plant.run(time, mount, stiffness=stiffness, law=law)
+    stroke = math.nan if law is None else float(np.abs(r.isolator_stroke.values).max())
+    y, z = r.camera_displacement.values
+    roll = np.asarray(mount.rotation[0], dtype=float)
+    return Series(roll, r.camera_pitch.values, r.camera_yaw.values, y, z, None, stroke)
+
+
+# name: (units, long_name, in pixels) of the metrics of one run
+METRICS = {
+    "los_rms": ("rad", "line-of-sight rms sqrt(var yaw + var pitch) over the settled window", False),
+    "los_roll_rms": ("rad", "line-of-sight roll rms (std) over the settled window", False),
+    "los_peak_to_peak": ("rad", "largest frame-to-frame image offset, as an angle (arctan of px / focal px)", False),
+    "jitter_within_exposure": ("1", "rms over frames of the jitter about the exposure's linear smear, in pixels", True),
+    "drift_frame_to_frame": ("1", "rms distance between consecutive frame centroids, in pixels", True),
+    "mtf_nyquist": ("1", "mean over frames of the motion and jitter MTF at the sensor Nyquist frequency", False),
+    "skew_px": ("1", "95th percentile of the rolling-shutter shift first row to last row, in pixels", True),
+    "blur_p95": ("1", "95th percentile over frames of the smear extent, in pixels", True),
+    "torque_saturated": ("1", "share of gimbal samples (axes x time, settled window) at the torque limit", False),
+    "peak_stroke": ("m", "largest isolator element stroke along an element axis over the run", False),
+}
+
+
+def metric_attrs(name: str) -> dict[str, str]:
+    """CF attributes of metric `name` (pixels: `uavdamp.camera.image_quality.pixel_attrs`)."""
+    units, long_name, pixels = METRICS[name]
+    return pixel_attrs(long_name) if pixels else {"units": units, "long_name": long_name}
+
+
+def run_metrics(time: np.ndarray, s: Series, camera: CameraModel, start: float, end: float) -> dict[str, float]:
+    """The metrics of `METRICS` of one run over the window [start, end] s (peak_stroke over the whole run)."""
+    los = line_of_sight_stats(time, s.yaw, s.pitch, start, end)
+    keep = (time >= start - 1e-9) & (time <= end + 1e-9)
+    u, v = image_displacement_px(camera, s.yaw, s.pitch, s.y, s.z)
+    frames = frames_from_image_path(time, u, v, camera, start, end)
+    summary = frame_summary(frames, camera.sharp_threshold_px)
+    steps = np.linalg.norm(np.diff(frames.centroid_px, axis=0), axis=-1)
+    return {
+        "los_rms": los["los_std"][0],
+        "los_roll_rms": float(np.std(s.roll[keep])),
+        "los_peak_to_peak": float(np.arctan(steps.max() / camera.focal_px)) if steps.size else math.nan,
+        "jitter_within_exposure": float(np.sqrt(np.mean(frames.sigma_px**2))),
+        "drift_frame_to_frame": summary["frame_jitter_rms"][0],
+        "mtf_nyquist": float(np.mean(frames.mtf_nyquist)),
+        "skew_px": summary["rolling_shutter_skew_p95"][0],
+        "blur_p95": summary["blur_p95"][0],
+        "torque_saturated": math.nan if s.saturated is None else float(np.mean(s.saturated[:, keep])),
+        "peak_stroke": s.peak_stroke,
+    }

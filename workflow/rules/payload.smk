@@ -1,0 +1,44 @@
+# Which payload and isolator keep the camera sharp: the paper's head, the same head balanced and a gyro-stabilised
+# gimbal, each on a rigid, the paper's Y-Z and a six-axis isolator, at constant damping candidates, on the study's
+# cases and the stated sources payload.sources names (src/uavdamp/study/payload.py).
+PAYLOAD = canonical(config["payload"])
+PAYLOAD_SOURCES = canonical({n: config["sources"][n] for n in config["payload"]["sources"]})
+digest(
+    "payload",
+    {
+        "payload": PAYLOAD,
+        "sources": PAYLOAD_SOURCES,
+        "camera": CAMERA,
+        "platform": PLATFORM_MODEL,
+    },
+    "excitation",
+)
+
+
+rule payload:
+    input:
+        cases=f"{OUT}/excitation/cases.nc",
+    output:
+        comparison=f"{OUT}/payload/comparison.nc",
+        design=f"{OUT}/payload/design.nc",
+        figure=report(
+            f"{OUT}/figures/payload_line_of_sight.png",
+            caption="../report/payload.rst",
+            category="Payload",
+            labels={"figure": "line of sight per payload, mount and damping"},
+        ),
+    log:
+        f"{OUT}/logs/payload.log",
+    benchmark:
+        f"{OUT}/benchmarks/payload.tsv"
+    conda:
+        ENV
+    params:
+        digest=DIGESTS["payload"],
+        expects=expects({f"{OUT}/excitation/cases.nc": "excitation"}),
+        payload=PAYLOAD,
+        sources=PAYLOAD_SOURCES,
+        camera=CAMERA,
+        platform=PLATFORM_MODEL,
+    script:
+        "../scripts/payload.py"
