@@ -24,6 +24,19 @@ from uavdamp.settings import RENAMED, ConfigError, key_of
 
 # (override merged over quick.yaml, text the error must contain)
 BAD = {
+    # the payload stage reads the study's cases from their start; a multirotor source needs its VIBE's settling
+    "payload-longer-than-the-study": (
+        {"payload": {"duration_s": 3.0}},
+        "payload.duration_s: (3.0 s) must be at most study.duration_s (2.0 s)",
+    ),
+    "payload-too-short-for-vibe": (
+        {"payload": {"duration_s": 1.5}},
+        "payload.duration_s: (1.5 s) must exceed 1.59 s for payload.sources[0] 'multirotor_30'",
+    ),
+    "payload-unknown-source": (
+        {"payload": {"sources": ["nowhere"]}},
+        "payload.sources[0]: 'nowhere' is not a name of the sources section",
+    ),
     "freq-above-nyquist": (
         {"reference_table": {"freq_y_hz": {"start": 4.0, "stop": 200.0}}},
         "reference_table.freq_y_hz: 200 Hz must stay below 0.25 x the Nyquist frequency",

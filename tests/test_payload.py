@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import load_config, platform_params
+from test_gimbal import _fit
 
 from uavdamp.camera.optics import CameraModel
 from uavdamp.contract import MountMotion
@@ -41,15 +42,6 @@ def _section(**keys) -> PayloadSection:
 
 def _time(duration: float) -> np.ndarray:
     return np.arange(int(round(duration / H)) + 1) * H
-
-
-def _fit(time, y, freq_hz, start):
-    """Amplitude of the freq_hz sine in y over time >= start (least squares with an offset)."""
-    sel = time >= start
-    w = 2 * np.pi * freq_hz
-    m = np.column_stack([np.sin(w * time[sel]), np.cos(w * time[sel]), np.ones(sel.sum())])
-    c, *_ = np.linalg.lstsq(m, y[sel], rcond=None)
-    return math.hypot(c[0], c[1])
 
 
 @pytest.mark.parametrize("axis, row", [("pitch", 1), ("yaw", 2)])

@@ -25,6 +25,8 @@ SHORT = {  # the profile, smaller: 3 x 3 frequencies, 2 stiffnesses, 1.5 s runs,
         "windows_s": {"transient": [0.0, 1.5], "steady": [0.75, 1.5]},
     },
     "study": {"duration_s": 1.5},
+    # at most the study's (the config check refuses more); the stated quadrotor needs 1.6 s for its VIBE: left out
+    "payload": {"duration_s": 1.5, "settle_s": 0.5, "sources": []},
     "benchmark": {"duration_s": 1.5, "controllers": ["rigid", "passive_tuned", "anfis", "skyhook_on_off"]},
 }
 

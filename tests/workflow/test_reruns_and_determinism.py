@@ -21,7 +21,8 @@ from uavdamp import io
 
 pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
-FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study"}
+# the payload stage reads the cases (excitation), the camera and the platform
+FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study", "payload"}
 HELICOPTER_ALL = {
     "helicopter_run",
     "helicopter_flight",
@@ -32,6 +33,7 @@ HELICOPTER_ALL = {
     "helicopter_sensitivity",
     "excitation",
     "study",
+    "payload",
 }
 GRID_DOWN = {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study"}
 
@@ -63,13 +65,13 @@ EDITS = {
     "platform.structure.camera_mass_kg": (
         ("platform", "structure", "camera_mass_kg"),
         lambda v: v * 1.01,
-        {"platform_modes"} | GRID_DOWN,
+        {"platform_modes", "payload"} | GRID_DOWN,
     ),
     "platform.response.duration_s": (("platform", "response", "duration_s"), lambda v: v + 0.5, {"platform_modes"}),
     "platform.isolator.damping_max_n_s_m": (
         ("platform", "isolator", "damping_max_n_s_m"),
         lambda v: v * 1.1,
-        {"platform_modes"} | GRID_DOWN,
+        {"platform_modes", "payload"} | GRID_DOWN,
     ),
     # the stroke budget: the table's budget and the study, not the grid, the ANFIS or the platform's modes
     "platform.stroke.max_stroke_m": (
@@ -85,15 +87,19 @@ EDITS = {
     ),
     "anfis.ridge": (("anfis", "ridge"), lambda v: v + 1e-6, {"anfis", "study"}),
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
-    "study.tracking.window_s": (("study", "tracking", "window_s"), lambda v: v * 0.8, {"excitation", "study"}),
+    "study.tracking.window_s": (
+        ("study", "tracking", "window_s"),
+        lambda v: v * 0.8,
+        {"excitation", "study", "payload"},
+    ),
     "study.figures.case_1": (("study", "figures", "case_1"), lambda v: "case2", {"study"}),
     # the sharp-frame threshold is the study's image metric, not the grid's blur (it once reran the grid)
-    "camera.sharp_threshold_px": (("camera", "sharp_threshold_px"), lambda v: v * 2, {"study"}),
+    "camera.sharp_threshold_px": (("camera", "sharp_threshold_px"), lambda v: v * 2, {"study", "payload"}),
     # the grid's blur criterion uses the camera: its chunks, the table, the ANFIS and the study rerun
     "camera.exposure_s": (
         ("camera", "exposure_s"),
         lambda v: v * 2,
-        {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study"},
+        {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study", "payload"},
     ),
 }
 

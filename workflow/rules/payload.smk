@@ -2,7 +2,9 @@
 # gimbal, each on a rigid, the paper's Y-Z and a six-axis isolator, at constant damping candidates, on the study's
 # cases and the stated sources payload.sources names (src/uavdamp/study/payload.py).
 PAYLOAD = canonical(config["payload"])
-PAYLOAD_SOURCES = canonical({n: config["sources"][n] for n in config["payload"]["sources"]})
+PAYLOAD_SOURCES = canonical(
+    {n: config["sources"][n] for n in config["payload"]["sources"]}
+)
 digest(
     "payload",
     {

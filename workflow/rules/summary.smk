@@ -12,14 +12,12 @@ digest(
 # The results page from the run's NetCDF outputs and key figures: findings, descriptions and tables, generated,
 # never typed. `all` writes the study's page; the benchmark target writes the same page with the benchmark's
 # table beside it (`summary_with_benchmark`), so that `all` never waits for, nor reruns, the benchmark.
-SUMMARY_FIGURES = (
-    {  # role (uavdamp.results.summary.FIGURES): figure under the output folder
-        "blur": "figures/study_blur.png",
-        "strategies": f"figures/study_strategies/{STUDY_FIGURES['case_1']}.png",  # not the first listed: key order changes nothing
-        "fuselage": "figures/fuselage_vibration.png",
-        "reference": "figures/reference_table.png",
-    }
-)
+SUMMARY_FIGURES = {  # role (uavdamp.results.summary.FIGURES): figure under the output folder
+    "blur": "figures/study_blur.png",
+    "strategies": f"figures/study_strategies/{STUDY_FIGURES['case_1']}.png",  # not the first listed: key order changes nothing
+    "fuselage": "figures/fuselage_vibration.png",
+    "reference": "figures/reference_table.png",
+}
 SUMMARY_EXPECTS = {
     f"{OUT}/helicopter/vibration.nc": "helicopter_vibration",
     f"{OUT}/platform/modes.nc": "platform_modes",

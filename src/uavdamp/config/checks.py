@@ -18,6 +18,7 @@ from uavdamp.contract import is_multiple
 from uavdamp.helicopter import params as P
 from uavdamp.platform import PlatformParams, design_stiffness
 from uavdamp.settings import ConfigError, require
+from uavdamp.sources.levels import vibe_settle_s
 from uavdamp.study import strategies
 from uavdamp.workflow import check_schema
 
@@ -299,6 +300,15 @@ def _check_payload(config: Config) -> None:
         f"({config.payload.duration_s} s) must be at most study.duration_s ({config.study.duration_s} s): the "
         "study's cases are that long",
     )
+    need = 2 * vibe_settle_s()  # a multirotor source is scaled to its VIBE, measured after the filter settles
+    for k, name in enumerate(config.payload.sources):
+        source = config.sources.get(name)
+        require(
+            source is None or source.kind != "multirotor" or config.payload.duration_s > need,
+            "payload.duration_s",
+            f"({config.payload.duration_s} s) must exceed {need:.2f} s for payload.sources[{k}] {name!r}: a "
+            "multirotor source is scaled to its VIBE level, measured after the level's 2 Hz filter settles",
+        )
 
 
 def _check_study(config: Config) -> None:

@@ -400,9 +400,13 @@ def design_dataset(section: PayloadSection) -> xr.Dataset:
     per_axis = {
         "rate_crossover_design": (designed, "Hz", "rate loop crossover specified"),
         "rate_crossover": (report.rate_crossover_hz.values, "Hz", "rate loop crossover achieved"),
-        "rate_phase_margin": (report.rate_phase_margin_deg.values, "deg", "rate loop phase margin achieved"),
-        "whole_phase_margin": (report.whole_phase_margin_deg.values, "deg", "whole loop phase margin (at the torque)"),
-        "whole_gain_margin": (report.whole_gain_margin_db.values, "dB", "whole loop gain margin (at the torque)"),
+        "rate_phase_margin": (report.rate_phase_margin_deg.values, "degree", "rate loop phase margin achieved"),
+        "whole_phase_margin": (
+            report.whole_phase_margin_deg.values,
+            "degree",
+            "whole loop phase margin (at the torque)",
+        ),
+        "whole_gain_margin": (report.whole_gain_margin_db.values, "1", "whole loop gain margin (at the torque), in dB"),
         "attitude_crossover": (report.attitude_crossover_hz.values, "Hz", "attitude loop crossover achieved"),
     }
     data = {k: (("axis",), np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in per_axis.items()}
