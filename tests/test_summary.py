@@ -268,8 +268,47 @@ def check_run_page(reports) -> None:
         where = {"case": row[0], "stiffness": float(row[1]), "strategy": row[2]}
         assert float(row[los]) == pytest.approx(1e3 * float(ds.los_std.sel(where)), rel=5e-4)  # 4 digits
         assert float(row[blur]) == pytest.approx(float(ds.blur_p95.sel(where)), rel=5e-4)
-    assert (reports / "report_landing.rst").read_text().count("- **") == ds.sizes["case"] * ds.sizes["stiffness"]
+    payload = io.open_dataset(reports / "payload" / "comparison.nc")
+    landing = (reports / "report_landing.rst").read_text()
+    assert landing.count("- **") == ds.sizes["case"] * ds.sizes["stiffness"] + payload.sizes["input"]
+    for i in payload.input.values:  # each input's least line of sight, as the page states it (3 digits)
+        least = float(payload.los_rms.sel(input=i).min()) * 1e6
+        stated = re.search(rf"\*\*{i}\.\*\* Least line of sight: .*?, ([0-9.]+) µrad rms", landing)
+        assert stated and float(stated.group(1)) == pytest.approx(least, rel=5e-3, abs=0.5), (i, least)
 
 
 def test_the_quick_runs_page_is_its_comparison(quick_run):
     check_run_page(quick_run / "reports-quick")
+
+
+def test_the_payload_table_and_findings_are_its_numbers():
+    """A payload dataset made here: the table shows each isolator at the C of least line of sight, in µrad, '-' where
+    not modelled; the finding names the least cell and says whether it is within 175 µrad, and why a balanced
+    camera sees nothing of an input without rotation."""
+    los = np.full((2, 2, 3, 2), np.nan)  # input, payload, mount (rigid, yz, six_axis), damping (3, 30)
+    los[:, 0, 0, :], los[:, 0, 1, :] = 0.04, [[0.03, 0.035], [0.03, 0.035]]  # head: six_axis not modelled
+    los[:, 1, 0, :], los[:, 1, 1, :], los[:, 1, 2, :] = 3e-3, [[9e-4, 8e-4]] * 2, [[1e-4, 2e-3]] * 2
+    los[1, 0] = 0.0  # the second input has no rotation: the head sees nothing
+    best = np.array([[[np.nan, 3.0, np.nan], [np.nan, 30.0, 3.0]]] * 2)
+    ds = xr.Dataset(
+        {
+            "los_rms": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
+            "best_damping": (("input", "payload", "mount"), best, {"units": "N s m-1"}),
+            "input_rotation_rms": (("input",), [1e-3, 0.0], {"units": "rad"}),
+        },
+        coords={
+            "input": ["heli", "quad"],
+            "payload": ["paper_head", "gimbal"],
+            "mount": ["rigid", "yz", "six_axis"],
+            "damping": [3.0, 30.0],
+        },
+    )
+    frame = summary.payload_table(ds).frame
+    gimbal = frame[(frame.input == "heli") & (frame.payload == "gimbal")].iloc[0]
+    assert gimbal["rigid (µrad)"] == "3000"
+    assert gimbal["yz (µrad, at C N s/m)"] == "800 (30)" and gimbal["six_axis (µrad, at C N s/m)"] == "100 (3)"
+    head = frame[(frame.input == "heli") & (frame.payload == "paper_head")].iloc[0]
+    assert head["six_axis (µrad, at C N s/m)"] == "-"
+    first, second = summary.payload_findings(ds)
+    assert "gimbal on the six_axis mount at C = 3 N s/m, 100 µrad rms (within 175 µrad)" in first
+    assert "paper_head on the rigid mount" in second and "does not rotate the mount" in second

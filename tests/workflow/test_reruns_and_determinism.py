@@ -112,6 +112,7 @@ SUMMARY_INPUTS = {
     "reference_table_stroke",
     "anfis",
     "study",
+    "payload",
 }
 
 

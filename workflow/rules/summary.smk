@@ -8,6 +8,7 @@ digest(
     "anfis",
     "excitation",
     "study",
+    "payload",
 )
 # The results page from the run's NetCDF outputs and key figures: findings, descriptions and tables, generated,
 # never typed. `all` writes the study's page; the benchmark target writes the same page with the benchmark's
@@ -17,6 +18,7 @@ SUMMARY_FIGURES = {  # role (uavdamp.results.summary.FIGURES): figure under the 
     "strategies": f"figures/study_strategies/{STUDY_FIGURES['case_1']}.png",  # not the first listed: key order changes nothing
     "fuselage": "figures/fuselage_vibration.png",
     "reference": "figures/reference_table.png",
+    "payload": "figures/payload_line_of_sight.png",
 }
 SUMMARY_EXPECTS = {
     f"{OUT}/helicopter/vibration.nc": "helicopter_vibration",
@@ -26,6 +28,7 @@ SUMMARY_EXPECTS = {
     f"{OUT}/anfis/training.nc": "anfis",
     f"{OUT}/excitation/cases.nc": "excitation",
     f"{OUT}/study/comparison.nc": "study",
+    f"{OUT}/payload/comparison.nc": "payload",
 }
 
 
@@ -39,6 +42,7 @@ rule summary:
         training=f"{OUT}/anfis/training.nc",
         cases=f"{OUT}/excitation/cases.nc",
         comparison=f"{OUT}/study/comparison.nc",
+        payload=f"{OUT}/payload/comparison.nc",
         landing=os.path.join(workflow.current_basedir, "..", "report", "workflow.rst"),
     output:
         markdown=f"{OUT}/summary.md",
@@ -76,6 +80,7 @@ use rule summary as summary_with_benchmark with:
         training=f"{OUT}/anfis/training.nc",
         cases=f"{OUT}/excitation/cases.nc",
         comparison=f"{OUT}/study/comparison.nc",
+        payload=f"{OUT}/payload/comparison.nc",
     output:
         markdown=f"{OUT}/benchmark/summary.md",
         html=report(

@@ -15,6 +15,7 @@ strategy, and any dimension a stage adds later), never from a list of names:
     anfis          the ANFIS and its baselines on the checking rows
     study          per case, stiffness and strategy: camera std, line of sight, blur, stroke needed and whether
                    it fits
+    payload        per input and payload: line of sight (µrad) rigid and on each isolator at its best C
     benchmark      mean / worst J per controller and criterion over the evaluation set (when it has run)
 """
 
@@ -254,6 +255,47 @@ def benchmark_table(criteria: xr.Dataset) -> Table:
     return Table("Controller benchmark", pd.DataFrame(records), note, len(rows))
 
 
+ANCHOR_RAD = 175e-6  # ±0.01 deg: the angular vibration range gimbal makers quote
+
+
+def payload_table(ds: xr.Dataset) -> Table:
+    """Line-of-sight rms (µrad) per input and payload: rigid, and each isolator at its best constant C."""
+    records = []
+    for i, p in itertools.product(ds.input.values, ds.payload.values):
+        record = {"input": str(i), "payload": str(p)}
+        for m in ds.mount.values:
+            los, best = ds.los_rms.sel(input=i, payload=p, mount=m), ds.best_damping.sel(input=i, payload=p, mount=m)
+            if m == "rigid":
+                record["rigid (µrad)"] = fmt(float(los.max()) * 1e6, 3)
+            else:
+                c = float(best)
+                value = MISSING if not np.isfinite(c) else f"{fmt(float(los.sel(damping=c)) * 1e6, 3)} ({fmt(c, 3)})"
+                record[f"{m} (µrad, at C N s/m)"] = value
+        records.append(record)
+    note = (
+        "Line-of-sight rms over the settled window; each isolator at its best constant C; lower is better; '-': not "
+        f"modelled. Anchor: ±0.01° = {ANCHOR_RAD * 1e6:g} µrad."
+    )
+    return Table("Payloads and mounts", pd.DataFrame(records), note, 2)
+
+
+def payload_findings(ds: xr.Dataset) -> list[str]:
+    """Per input, the payload and mount of least line of sight (at its best C) against the 175 µrad anchor."""
+    out = []
+    for i in ds.input.values:
+        los = ds.los_rms.sel(input=i)
+        p, m, c = np.unravel_index(int(np.nanargmin(los.values)), los.shape)
+        value = float(los.values[p, m, c])
+        where = f"{ds.payload.values[p]} on the {ds.mount.values[m]} mount"
+        damping = "" if ds.mount.values[m] == "rigid" else f" at C = {fmt(float(ds.damping.values[c]), 3)} N s/m"
+        side = "within" if value <= ANCHOR_RAD else "above"
+        text = f"**{i}.** Least line of sight: {where}{damping}, {fmt(value * 1e6, 3)} µrad rms ({side} 175 µrad)"
+        if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
+            text += "; this input does not rotate the mount, so a balanced camera sees none of it"
+        out.append(text + ".")
+    return out
+
+
 def descriptions(comparison: xr.Dataset, cases: xr.Dataset | None = None) -> list[tuple[str, dict[str, str]]]:
     """(title, {name: one sentence}) for every row dimension with a `<dim>_description` coordinate (case and
     strategy as the study writes them; else a case's from the excitation's `description`, a strategy's from the
@@ -358,6 +400,7 @@ FIGURES = {  # role: (title, caption)
     "fuselage": ("The fuselage's vibration", "Motion at the mount and its spectra, imbalanced and balanced rotor."),
     "reference": ("The reference table", "Optimal damping C per input frequency pair and stiffness K."),
     "benchmark": ("Controller benchmark", "Mean and worst J per controller and criterion (J = 1: rigid mount)."),
+    "payload": ("Payloads and mounts", "Line of sight (µrad) per payload and mount against the isolator's damping."),
 }
 
 
@@ -378,6 +421,9 @@ def summary_page(outputs: dict[str, xr.Dataset], figures: dict[str, str] | None 
     if "training" in outputs:
         page.tables.append(anfis_table(outputs["training"]))
     page.tables.append(study_table(comparison))
+    if "payload" in outputs:
+        page.findings.extend(payload_findings(outputs["payload"]))
+        page.tables.append(payload_table(outputs["payload"]))
     if "benchmark" in outputs:
         page.tables.append(benchmark_table(outputs["benchmark"]))
     return page

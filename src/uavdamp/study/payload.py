@@ -331,6 +331,8 @@ def compare_inputs(
     ds = xr.concat([d.drop_vars("floor_los_rms") for d in per_input], dim="input", combine_attrs="override")
     ds = ds.assign_coords(input=("input", names, {"units": "1", "long_name": "input (study case or stated source)"}))
     ds["input_description"] = ("input", [i.description for i in found], {"units": "1", "long_name": "the input"})
+    rotation = [float(np.sqrt(np.sum(np.var(_input(i.time, i.mount, section)[1].rotation, axis=1)))) for i in found]
+    ds["input_rotation_rms"] = ("input", rotation, {"units": "rad", "long_name": "the mount's rotation rms (3 axes)"})
     ds["floor_los_rms"] = per_input[0].floor_los_rms
     return ds
 
