@@ -446,23 +446,28 @@ def test_clipped_demands_are_counted_in_every_plants_response(params):
     assert comparison.demands_clipped.attrs["units"] == "1"
 
 
-def test_a_non_finite_demand_names_the_law_the_strategy_and_the_case(params):
-    """A law returning NaN inside a study run: the error names the law, study.strategies' entry, the case and K.
-
-    seen failing on the previous main: "damping: the law returned the non-finite value nan at t = 0.0 s" only."""
+def _study_error(params, name: str, law, expected: type[Exception]) -> str:
+    """The text of the `expected` error of a one-case, one-K study whose only strategy `name` runs `law`."""
     from dataclasses import replace
 
     from uavdamp.study import comparison as study
 
-    name = "nan_demand_test"
     if name not in strategies.REGISTRY:
-        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", _Listed([math.nan], "nan_law")))
+        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", law))
     t, motion = _sine_run(params, 1.0)
     cases = planar_cases("gust", t, motion.translation[1], motion.translation[2])
     options = replace(study_options_of(load_config("quick.yaml")["study"]), strategies=(name,), stiffness=(10.0,))
-    with pytest.raises(ValueError) as error:
+    with pytest.raises(expected) as error:
         study.run_study(cases, params, None, options)
-    text = str(error.value)
+    return str(error.value)
+
+
+def test_a_non_finite_demand_names_the_law_the_strategy_and_the_case(params):
+    """A law returning NaN inside a study run: the error names the law, study.strategies' entry, the case and K.
+
+    seen failing on the previous main: "damping: the law returned the non-finite value nan at t = 0.0 s" only."""
+    name = "nan_demand_test"
+    text = _study_error(params, name, _Listed([math.nan], "nan_law"), ValueError)
     for part in (f"study.strategies {name!r}", "study.cases.gust", "K = 10 N m-1", "'nan_law'", "non-finite"):
         assert part in text, text
 
@@ -481,18 +486,7 @@ def test_a_stopped_solver_names_the_strategy_the_case_and_k(params):
     own text (the keys that set its step).
 
     seen failing with SolverFailed left out of the study's except clause: the plant's text alone."""
-    from dataclasses import replace
-
-    from uavdamp.study import comparison as study
-
     name = "stopping_solver_test"
-    if name not in strategies.REGISTRY:
-        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", _Stopping([1.0], "stop_law")))
-    t, motion = _sine_run(params, 1.0)
-    cases = planar_cases("gust", t, motion.translation[1], motion.translation[2])
-    options = replace(study_options_of(load_config("quick.yaml")["study"]), strategies=(name,), stiffness=(10.0,))
-    with pytest.raises(SolverFailed) as error:
-        study.run_study(cases, params, None, options)
-    text = str(error.value)
+    text = _study_error(params, name, _Stopping([1.0], "stop_law"), SolverFailed)
     for part in (f"study.strategies {name!r}", "study.cases.gust", "K = 10 N m-1", "platform.solver"):
         assert part in text, text

@@ -255,11 +255,10 @@ def _series(setup: _Setup, t: np.ndarray, moved: MountMotion, payload: str, moun
     return runs.gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
 
 
-def _values(setup: _Setup, time, mount: MountMotion) -> dict[str, np.ndarray]:
-    """Every metric of `payload_runs.METRICS` over (payload, mount, damping); NaN where not modelled, the rigid
-    mount's value at every C."""
+def _values(setup: _Setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
+    """Every metric of `payload_runs.METRICS` over (payload, mount, damping) under the gridded input (`_input`);
+    NaN where not modelled, the rigid mount's value at every C."""
     s = setup.section
-    t, moved = _input(time, mount, s)
     values = {name: np.full((len(s.payloads), len(s.mounts), len(s.damping)), math.nan) for name in runs.METRICS}
     for (i, payload), (j, where) in ((a, b) for a in enumerate(s.payloads) for b in enumerate(s.mounts)):
         if not modelled(payload, where):
@@ -292,7 +291,7 @@ def compare_payloads(
     ``best_damping`` (payload, mount) the C of the least ``los_rms`` (NaN: rigid, not modelled) and
     ``floor_los_rms`` (payload) the LOS rms on a still mount. Assumptions: module docstring."""
     setup = _setup(section, platform, camera)
-    return _dataset(setup, _values(setup, time, mount), _floor(setup))
+    return _dataset(setup, _values(setup, *_input(time, mount, section)), _floor(setup))
 
 
 class PayloadInput(NamedTuple):
@@ -326,12 +325,13 @@ def compare_inputs(
     require(len(found) > 0, "payload.sources", "no input: the study has no case and payload.sources is empty")
     setup = _setup(section, platform, camera)
     floor = _floor(setup)
-    per_input = [_dataset(setup, _values(setup, i.time, i.mount), floor) for i in found]
+    gridded = [_input(i.time, i.mount, section) for i in found]  # each input resampled once
+    per_input = [_dataset(setup, _values(setup, t, moved), floor) for t, moved in gridded]
     names = [i.name for i in found]
     ds = xr.concat([d.drop_vars("floor_los_rms") for d in per_input], dim="input", combine_attrs="override")
     ds = ds.assign_coords(input=("input", names, {"units": "1", "long_name": "input (study case or stated source)"}))
     ds["input_description"] = ("input", [i.description for i in found], {"units": "1", "long_name": "the input"})
-    rotation = [float(np.sqrt(np.sum(np.var(_input(i.time, i.mount, section)[1].rotation, axis=1)))) for i in found]
+    rotation = [float(np.sqrt(np.sum(np.var(moved.rotation, axis=1)))) for _, moved in gridded]
     ds["input_rotation_rms"] = ("input", rotation, {"units": "rad", "long_name": "the mount's rotation rms (3 axes)"})
     ds["floor_los_rms"] = per_input[0].floor_los_rms
     return ds
