@@ -111,20 +111,44 @@ def test_cases_at_different_rates_share_the_finest_grid_band_limited():
     np.testing.assert_array_equal(ds.mount_displacement.sel(case="sweep").values, sweep.translation[:, :n])
 
 
-def test_a_rate_with_no_integer_ratio_is_refused_naming_the_case():
+def _seven_hz_fit(ds: xr.Dataset) -> np.ndarray:
+    """(sin, cos) coefficients, m, of the heli case's 7 Hz line over 0.5-1.5 s."""
+    y = ds.mount_displacement.sel(case="heli", mount_axis="y").where((ds.time > 0.5) & (ds.time < 1.5), drop=True)
+    t = y.time.values
+    basis = np.stack([np.sin(2 * np.pi * 7 * t), np.cos(2 * np.pi * 7 * t)], 1)
+    return np.linalg.lstsq(basis, y.values, rcond=None)[0]
+
+
+def test_a_rate_with_no_small_integer_ratio_is_brought_onto_the_grid_in_phase():
+    """A 200 Hz helicopter case beside a 333.3 Hz stated source (ratio 1.6665 = 3333/2000, no ratio of small
+    integers): the helicopter case lands on the 333.3 Hz grid with its 7 Hz line's sine and cosine parts as on its
+    own 200 Hz grid within 0.2 % of the line (the resampler's passband ripple, previous test). The nearest ratio of
+    denominator up to 64, 5/3, would put every sample 1e-4 of a step late per step: 0.15 ms at 1.5 s, a 0.66 % swing
+    of the line into its cosine part. The timing error is recorded, below 1e-4 of the case's Nyquist period."""
     run = _sine_run(7.0, 1e-3, 200.0, 3.0)
     source = _source({**SWEEP, "sample_rate_hz": 333.3})
-    options = excitation_options(
-        {
-            "heli": {"run": "imbalanced", "mount": "at_cg", "amplitude_scaling": "measured", "motion": "planar"},
-            "odd": {"source": "sweep", "amplitude_scaling": "measured", "motion": "planar"},
-        },
-        duration=2.0,
-        highpass_hz=1.0,
-        band_hz=(3.0, 12.0),
-    )
-    with pytest.raises(ValueError, match=r"study.cases.heli: sampled every 0.005 s.*no integer ratio"):
-        excitation.cases_dataset({"imbalanced": run}, options, stated={"sweep": stated.generate(source, "sweep", 2.0)})
+    heli = {"run": "imbalanced", "mount": "at_cg", "amplitude_scaling": "measured", "motion": "planar"}
+    both = {"heli": heli, "odd": {"source": "sweep", "amplitude_scaling": "measured", "motion": "planar"}}
+    common = {"duration": 2.0, "highpass_hz": 1.0, "band_hz": (3.0, 12.0)}
+    sweep = {"sweep": stated.generate(source, "sweep", 2.0)}
+    ds = excitation.cases_dataset({"imbalanced": run}, excitation_options(both, **common), stated=sweep)
+    alone = excitation.cases_dataset({"imbalanced": run}, excitation_options({"heli": heli}, **common))
+    assert float(ds.time[1]) == pytest.approx(1 / 333.3, rel=1e-12)
+    np.testing.assert_allclose(_seven_hz_fit(ds), _seven_hz_fit(alone), rtol=0, atol=2e-3 * 1e-3)
+    error = float(ds.grid_timing_error_s.sel(case="heli"))
+    assert 0 <= error <= 1e-4 * 2 / 200.0 and float(ds.grid_timing_error_s.sel(case="odd")) == 0.0
+
+
+def test_the_grid_ratio_keeps_the_drift_within_its_bound():
+    """A log's median rate (1 / 5.0100 ms = 199.60 Hz) onto 1 kHz over 10 s: the ratio found keeps the gathered
+    timing error within 1e-4 of the 10 ms Nyquist period; a rate no ratio of denominator up to 2^16 reaches is
+    refused."""
+    step, finest, span = 5.0100e-3, 1e-3, 10.0
+    ratio = excitation.grid_ratio(step, finest, span)
+    assert abs(step / float(ratio) - finest) * span / finest <= 1e-4 * 2 * step
+    assert ratio.denominator > 64  # 5.01 = 501/100: beyond the former bound of 64
+    with pytest.raises(ValueError, match="no ratio of denominator up to 65536"):
+        excitation.grid_ratio(np.pi * 1e-3, 1e-3, 1e9)
 
 
 @pytest.mark.parametrize(

@@ -264,27 +264,49 @@ def cases_dataset(
         )
         if case.run and int(sources[chosen].attrs.get("trim_converged", 1)) == 0:
             flags.append(f"{where}: run {chosen!r} flown on an unconverged trim: {sources[chosen].attrs['warning']}")
-    time, motions, rates = on_common_grid([(t, m) for t, m, _ in cases], names)
+    time, motions, rates, drift = on_common_grid([(t, m) for t, m, _ in cases], names)
     ds = _cases_variables(options, names, time, motions, [s for _, _, s in cases])
     ds["sample_rate_hz"] = ("case", rates, {"units": "Hz", "long_name": "the case's own sampling rate (its source's)"})
+    ds["grid_timing_error_s"] = (
+        "case",
+        drift,
+        {"units": "s", "long_name": "timing error gathered over the record when brought onto the common grid"},
+    )
     return ds.assign_attrs(warning="; ".join(flags)) if flags else ds
 
 
+# the timing error a case may gather over its record when brought onto another grid, in periods of its Nyquist
+# frequency (choice: 1e-4, a phase error below 6.3e-4 rad at any frequency it holds)
+DRIFT_NYQUIST_PERIODS = 1e-4
+
+
+def grid_ratio(step: float, finest: float, span_s: float) -> Fraction:
+    """up / down (a Fraction) that brings a case sampled every `step` s onto the `finest` step: the simplest ratio
+    (denominator up to 2^16) whose step mismatch, gathered over `span_s`, stays below DRIFT_NYQUIST_PERIODS of the
+    case's Nyquist period 2 step. ValueError when none does (a rate ratio too irrational for 2^16)."""
+    exact, allowed = step / finest, DRIFT_NYQUIST_PERIODS * 2 * step / max(span_s, step)
+    for bits in range(6, 17):
+        ratio = Fraction(exact).limit_denominator(2**bits)
+        if abs(step / float(ratio) - finest) * span_s / finest <= allowed:
+            return ratio
+    raise ValueError(f"no ratio of denominator up to 65536 brings a {step:.6g} s step onto {finest:.6g} s")
+
+
 def on_common_grid(cases: list[tuple[np.ndarray, MountMotion]], names: list[str]):
-    """(time s, motions, each case's own rate Hz) with every case on the finest sampling among them: a coarser
-    case is resampled band-limited (`scipy.signal.resample_poly`, its rate an integer ratio of the finest within
-    1e-6), the same case sampled alike stays exactly as it was; all are cut to the shortest. ValueError names a
-    case whose rate is no such ratio."""
+    """(time s, motions, each case's own rate Hz, each case's timing error s) with every case on the finest
+    sampling among them: a coarser case is resampled band-limited (`scipy.signal.resample_poly` by `grid_ratio`;
+    the timing error is what the ratio's mismatch gathers over the record, below DRIFT_NYQUIST_PERIODS of the
+    case's Nyquist period), the same case sampled alike stays exactly as it was; all are cut to the shortest."""
     steps = [float(np.mean(np.diff(t))) for t, _ in cases]
     finest = min(steps)
-    out = []
-    for (_, motion), step, name in zip(cases, steps, names, strict=True):
-        ratio = Fraction(step / finest).limit_denominator(64)
-        if abs(float(ratio) - step / finest) > 1e-6 * step / finest:
-            raise ValueError(
-                f"study.cases.{name}: sampled every {step:.6g} s, the finest case every {finest:.6g} s: its rate "
-                "is no integer ratio of the finest, so it cannot be brought onto one grid (resample its source)"
-            )
+    out, drift = [], []
+    for (t, motion), step, name in zip(cases, steps, names, strict=True):
+        span = float(t[-1] - t[0])
+        try:
+            ratio = grid_ratio(step, finest, span)
+        except ValueError as error:
+            raise ValueError(f"study.cases.{name}: {error} (resample its source)") from None
+        drift.append(abs(step / float(ratio) - finest) * span / finest)
         if ratio == 1:
             out.append(motion)
             continue
@@ -294,7 +316,7 @@ def on_common_grid(cases: list[tuple[np.ndarray, MountMotion]], names: list[str]
     n = min(m.translation.shape[1] for m in out)
     time = np.arange(n) * finest
     motions = [MountMotion(m.translation[:, :n], m.rotation[:, :n]) for m in out]
-    return time, motions, [1.0 / s for s in steps]
+    return time, motions, [1.0 / s for s in steps], drift
 
 
 def _cases_variables(options: ExcitationOptions, names, time, motions, stats) -> xr.Dataset:
