@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import excitation_options
+from conftest import deep_update, excitation_options, load_config
 from test_flight_log import G, write_csv
 
 from uavdamp.benchmark.scenarios import MeasuredScenario, ScenarioOptions, measured_input
+from uavdamp.config import checks
 from uavdamp.signals import inertial
 from uavdamp.sources import excitation
 from uavdamp.sources.flight_log import read_flight_log
@@ -109,3 +110,66 @@ def test_a_measured_scenario_is_its_window_as_measured(tmp_path):
     t, motion = measured_input(entry, log, options)
     f, a = LINES["y"]
     assert np.abs(motion.y - a * np.sin(2 * np.pi * f * (t + 3.0))).max() < 0.005 * a
+
+
+# A log case beside the default (helicopter) cases, checked before any job: the window against the log's span read
+# from its timestamps, the band against the study's tracker. The CSV log's grid runs from 100 s to 109 s at 200 Hz.
+LOW_BAND = [4.0, 12.0]  # across the default tracker band (3-12 Hz); edge_s = 3 / 4 = 0.75 s
+
+
+def _beside_default(tmp_path, case_keys: dict, band=LOW_BAND, scenario=None) -> dict:
+    override = {
+        "flight_logs": {"mine": {"path": str(_log(tmp_path)), "band_hz": band, "on_ground": "record"}},
+        "study": {"duration_s": 5.0, "cases": {"log": {**_case("mine"), **case_keys}}},
+    }
+    if scenario is not None:
+        override["benchmark"] = {"flight_logs": [{"name": "hop", "flight_log": "mine", "window_s": scenario}]}
+    return deep_update(load_config(), override)
+
+
+@pytest.mark.parametrize(
+    ("keys", "scenario", "message"),
+    [
+        (  # 100.5 s lies in the first edge_s of the 100-109 s span
+            {"window_s": [100.5, 106.0]},
+            None,
+            r"study.cases.log.window_s: \[100.5, 106\] s must lie within \[100.750, 108.250\] s: the log's span "
+            r"\[100.000, 109.000\] s",
+        ),
+        (  # 4 s of samples for a 5 s study
+            {"window_s": [101.0, 105.0]},
+            None,
+            r"study.cases.log.window_s: \[101, 105\] s holds 4.000 s of the log's samples, shorter than "
+            r"study.duration_s = 5 s",
+        ),
+        (
+            {"window_s": [101.0, 106.0]},
+            [100.2, 104.0],
+            r"benchmark.flight_logs.hop.window_s: \[100.2, 104\] s must lie within \[100.750, 108.250\] s",
+        ),
+    ],
+)
+def test_a_log_case_window_is_placed_in_its_log_before_any_job(tmp_path, keys, scenario, message):
+    with pytest.raises(ValueError, match=message):
+        checks.validate(_beside_default(tmp_path, keys, scenario=scenario))
+
+
+def test_a_log_case_that_fits_its_log_passes_beside_the_default_cases(tmp_path):
+    """Exactly 5 s of samples (101-106 s at 200 Hz) for a 5 s study: accepted."""
+    config, _ = checks.validate(_beside_default(tmp_path, {"window_s": [101.0, 106.0]}))
+    assert sorted(config.study.cases) == ["case1", "case2", "case3", "log"]
+
+
+def test_a_log_band_that_misses_the_tracker_is_refused_with_the_fix(tmp_path):
+    with pytest.raises(ValueError) as error:
+        checks.validate(_beside_default(tmp_path, {"window_s": [101.0, 106.0]}, band=[20.0, 47.0]))
+    text = str(error.value)
+    assert text.startswith("study.cases.log.flight_log: the log 'mine' is integrated in flight_logs.mine.band_hz")
+    assert "[20, 47] Hz, which does not meet the tracker's band study.tracking.min_freq_hz/max_freq_hz [3, 12]" in text
+    assert "config/multirotor.yaml" in text  # the fix
+
+
+def test_a_log_the_band_cannot_use_is_refused_naming_its_entry(tmp_path):
+    """A 150 Hz band top on a 200 Hz log (Nyquist 100 Hz): the reader's refusal, before any job, under the entry."""
+    with pytest.raises(ValueError, match=r"^flight_logs.mine: .*flight.csv"):
+        checks.validate(_beside_default(tmp_path, {"window_s": [101.0, 106.0]}, band=[4.0, 150.0]))

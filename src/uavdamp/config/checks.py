@@ -12,7 +12,7 @@ import numpy as np
 
 from uavdamp import plugins
 from uavdamp.anfis.training import split
-from uavdamp.config import budget
+from uavdamp.config import budget, flight_logs
 from uavdamp.config.load import Config, load
 from uavdamp.contract import is_multiple
 from uavdamp.helicopter import params as P
@@ -65,7 +65,7 @@ def check_config(config: Config, benchmark: bool = False) -> dict:
     _check_payload(config)
     _check_mounts(config)
     _check_scaling(config)
-    _check_flight_log_files(config)
+    flight_logs.check(config)
     _check_flights(config)
     _check_rotor_physics(config)
     grid = config.reference_table
@@ -194,19 +194,6 @@ def _check_mounts(config: Config) -> None:
     named |= {f"benchmark.helicopter.mount[{k}]": m for k, m in enumerate(config.benchmark.helicopter.mount)}
     for key, mount in named.items():
         require(mount in points, key, f"{mount!r} is not a mount point of helicopter.mount_points_m ({points})")
-
-
-def _check_flight_log_files(config: Config) -> None:
-    """Every configured flight log's file exists (paths relative to the run directory), before any job: an
-    existing output must not hide a mistyped path."""
-    for name, source in config.flight_logs.items():
-        where = Path(source.path)
-        require(
-            where.is_file(),
-            f"flight_logs.{name}.path",
-            f"no file {source.path!r} (relative to the run "
-            f"directory {Path.cwd()}; the flight_log rule reads it and reruns when its content changes)",
-        )
 
 
 PAPER_RUNS = ("balanced", "imbalanced", "both_rotors")  # the paper's vacuum runs: its per-axis scaled cases

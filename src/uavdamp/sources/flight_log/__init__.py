@@ -31,7 +31,7 @@ from uavdamp.sources.flight_log.formats import (
     read_csv,
     ulog_truncation,
 )
-from uavdamp.sources.flight_log.motion import READERS, read_flight_log, read_record
+from uavdamp.sources.flight_log.motion import READERS, log_span, read_flight_log, read_record
 from uavdamp.sources.flight_log.px4 import RELATIVE_TIMESTAMP_INVALID, read_ulog
 from uavdamp.sources.flight_log.records import AXES, FlightLogError, ImuRecord
 from uavdamp.sources.flight_log.source import FlightLogSource
@@ -50,6 +50,7 @@ __all__ = [
     "ImuRecord",
     "detect_format",
     "imu_from_messages",
+    "log_span",
     "read_csv",
     "read_dataflash",
     "read_flight_log",

@@ -88,14 +88,8 @@ def read_flight_log(
         raise ValueError(f"imu_to_mount_m: need 3 finite numbers (m), got {imu_to_mount_m}")
     fmt, record = read_record(path)
     units = checks.check_units(path, record)
-    keep_g = checks.in_window(path, record.time_s, window_s)
-    keep_a = checks.in_window(path, record.acc_time_s, window_s)
-    stats = checks.check_sampling(path, record.time_s[keep_g], band)
-    stats_a = checks.check_sampling(path, record.acc_time_s[keep_a], band)
+    keep_g, keep_a, stats, stats_a, (start, end) = _window(path, record, window_s, band)
     t_g, t_a = record.time_s[keep_g], record.acc_time_s[keep_a]
-    start, end = float(t_g[0]), float(t_g[-1])
-    if record.acc_stream != record.gyro_stream:  # two streams: the span both cover
-        start, end = max(start, float(t_a[0])), min(end, float(t_a[-1]))
     rates = {"acc_rate_hz": 1.0 / stats_a["median_s"], "gyro_rate_hz": 1.0 / stats["median_s"]}
     used = min(rates.values())
     stream = (
@@ -129,7 +123,7 @@ def read_flight_log(
         path, policies["on_bad_samples"], problems, "set on_bad_samples: record to use the log as it is"
     )
     dt, up = min(stats["median_s"], stats_a["median_s"]), int(upsample)
-    grid = inertial.uniform_grid(start, end, dt)
+    grid = inertial.uniform_grid(start, end, dt)  # log_span's
     fine = grid[0] + np.arange((grid.size - 1) * up + 1) * (dt / up)
     acc, rate = _at_mount(record, keep_a, keep_g, np.concatenate([grid, fine]), r_m)
     coarse = slice(0, grid.size)
@@ -165,6 +159,35 @@ def read_flight_log(
         inertial.band_integrate(rate[:, coarse], dt, band, 1, upsample=up),
         attrs,
     )
+
+
+def _window(path: Path, record: ImuRecord, window_s, band: tuple[float, float]):
+    """(gyro mask, accelerometer mask, gyro sampling stats, accelerometer sampling stats, (start, end) s): the
+    samples inside window_s (s of the log's clock; None: all), their sampling checked against band (Hz), and the
+    span both streams cover."""
+    keep_g = checks.in_window(path, record.time_s, window_s)
+    keep_a = checks.in_window(path, record.acc_time_s, window_s)
+    stats = checks.check_sampling(path, record.time_s[keep_g], band)
+    stats_a = checks.check_sampling(path, record.acc_time_s[keep_a], band)
+    t_g, t_a = record.time_s[keep_g], record.acc_time_s[keep_a]
+    start, end = float(t_g[0]), float(t_g[-1])
+    if record.acc_stream != record.gyro_stream:  # two streams: the span both cover
+        start, end = max(start, float(t_a[0])), min(end, float(t_a[-1]))
+    return keep_g, keep_a, stats, stats_a, (start, end)
+
+
+def log_span(path, *, band_hz, window_s=None, upsample: int = 1) -> tuple[float, float, float]:
+    """(first, last, step) s: the first and last sample time (of the log's clock; attribute log_window_s) and the
+    output step (attribute time_step_s) of the grid `read_flight_log` puts the log on for these arguments, read
+    without integrating anything: what a config check needs to place a case's window before any job.
+    FlightLogError as `read_flight_log` raises it."""
+    path = Path(path)
+    band = _checked_band(band_hz)
+    _, record = read_record(path)
+    _, _, stats, stats_a, (start, end) = _window(path, record, window_s, band)
+    dt = min(stats["median_s"], stats_a["median_s"])
+    grid = inertial.uniform_grid(start, end, dt)
+    return float(grid[0]), float(grid[-1]), dt / int(upsample)
 
 
 def _gap_attrs(t_acc: np.ndarray, t_gyro: np.ndarray) -> dict:
