@@ -92,12 +92,15 @@ def update_readme(text: str, schema: dict) -> str:
     return f"{head}{BEGIN}\n\n{reference(schema)}\n{END}{tail}"
 
 
-if __name__ == "__main__":  # rewrite config/README.md's reference from the schema
+if __name__ == "__main__":  # rewrite config/README.md's reference from the schema, then the docs' copy of it
     from pathlib import Path
 
     import yaml
+
+    from uavdamp.results import publish
 
     root = Path(__file__).resolve().parents[3]
     schema = yaml.safe_load((root / "workflow" / "schemas" / "config.schema.yaml").read_text())
     readme = root / "config" / "README.md"
     readme.write_text(update_readme(readme.read_text(), schema))
+    publish.refresh(root)
