@@ -15,6 +15,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import xarray as xr  # noqa: E402
 from conftest import vibration_dataset  # noqa: E402
+from matplotlib.container import BarContainer  # noqa: E402
 from PIL import Image  # noqa: E402
 
 from uavdamp import io  # noqa: E402
@@ -153,6 +154,46 @@ def test_legends_sit_off_the_data(plot_figures):
             if hidden:
                 covered[name] = covered.get(name, 0) + hidden
     assert not covered, f"legends drawn over plotted data (points and bars hidden): {covered}"
+
+
+def texts_off_the_figure(fig) -> list[str]:
+    """Titles, axis labels, legend texts, annotations and figure titles (subfigures included) that reach beyond
+    the figure's edge, where the saved PNG cuts them; the figure must have been drawn."""
+    found, stack = [], [fig]
+    while stack:
+        f = stack.pop()
+        found += list(f.texts) + [t for legend in f.legends for t in (*legend.get_texts(), legend.get_title())]
+        stack += list(getattr(f, "subfigs", []))
+    for ax in fig.axes:
+        found += [ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label, *ax.texts]
+        if ax.get_legend() is not None:
+            found += [*ax.get_legend().get_texts(), ax.get_legend().get_title()]
+    edge = fig.bbox
+    cut = []
+    for text in (t for t in found if t.get_visible() and t.get_text()):
+        box = text.get_window_extent()
+        if box.x0 < edge.x0 - 1 or box.x1 > edge.x1 + 1 or box.y0 < edge.y0 - 1 or box.y1 > edge.y1 + 1:
+            cut.append(text.get_text())
+    return cut
+
+
+def bars_on_log_axes(fig) -> list[str]:
+    """Titles of the panels that draw bars on a log axis (a bar there has no base: its length means nothing)."""
+    return [
+        ax.get_title()
+        for ax in fig.axes
+        if "log" in (ax.get_xscale(), ax.get_yscale()) and any(isinstance(c, BarContainer) for c in ax.containers)
+    ]
+
+
+def test_no_title_or_label_runs_off_the_figure(plot_figures):
+    cut = {name: texts_off_the_figure(fig) for name, fig in plot_figures.items()}
+    assert not {name: texts for name, texts in cut.items() if texts}, "texts cut at the figure's edge"
+
+
+def test_no_bars_on_a_log_axis(plot_figures):
+    found = {name: bars_on_log_axes(fig) for name, fig in plot_figures.items()}
+    assert not {name: panels for name, panels in found.items() if panels}, "bars on a log axis"
 
 
 def test_every_axis_with_data_says_its_unit(plot_figures):

@@ -11,9 +11,11 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from uavdamp.anfis.damping import DampingModel
+from uavdamp.plots.style import plain_log_ticks
 
 MARKERS = {"grid": "s", "fcm": "o", "subtractive": "^"}
-FEW = 12  # up to this many MFs per input, the ordered panel names each MF
+FEW = 12  # up to this many MFs per input, the ordered panel names each MF and the top one draws the initial MFs
+ORDER_CMAP = "viridis"  # the trained MFs' colours, along the order of their centres
 
 
 def _axis(model, i: int):
@@ -27,19 +29,28 @@ def _axis(model, i: int):
     return x, x, f"{est.input_names_[i]}{'' if unit in ('', '1') else f' ({unit})'}", False
 
 
-def _curves(ax, x, shown, centres, sigmas, style: dict) -> None:
-    for c, s in zip(centres, sigmas, strict=True):
-        ax.plot(shown, np.exp(-((x - c) ** 2) / (2 * s**2)), **style)
+def _rank_colours(centres: np.ndarray) -> np.ndarray:
+    """One colour per MF along ORDER_CMAP by the rank of its centre (lowest centre: the map's start)."""
+    rank = np.argsort(np.argsort(centres, kind="stable"), kind="stable")
+    return plt.get_cmap(ORDER_CMAP)(0.9 * rank / max(centres.size - 1, 1))  # not its last, pale yellow
+
+
+def _curves(ax, x, shown, centres, sigmas, style: dict, colours=None) -> None:
+    for k, (c, s) in enumerate(zip(centres, sigmas, strict=True)):
+        colour = {} if colours is None else {"color": colours[k]}
+        ax.plot(shown, np.exp(-((x - c) ** 2) / (2 * s**2)), **style, **colour)
 
 
 def _ordered(ax, model, i: int, after, before) -> None:
-    """Each MF as its centre and one-sigma band (trained) and initial centre (grey), ordered by trained centre."""
+    """Each MF as its centre and one-sigma band (trained, the band in its curve's colour) and initial centre
+    (grey), ordered by trained centre."""
     (c1, s1), (c0, _) = after, before
     order = np.argsort(c1, kind="stable")
     rank = np.arange(order.size)
     shown = (lambda v: 10**v) if (i == 2 and model.log_stiffness) else (lambda v: v)
-    ax.hlines(rank, shown(c1[order] - s1[order]), shown(c1[order] + s1[order]), color="C0", lw=2, alpha=0.7)
-    ax.plot(shown(c1[order]), rank, "|", color="C0", ms=8, label="trained: centre, one-sigma band")
+    colours = _rank_colours(c1)[order]
+    ax.hlines(rank, shown(c1[order] - s1[order]), shown(c1[order] + s1[order]), colors=colours, lw=2, alpha=0.8)
+    ax.plot(shown(c1[order]), rank, "|", color="k", ms=8, label="trained: centre, one-sigma band")
     ax.plot(shown(c0[order]), rank, "o", mfc="none", color="0.45", ms=4, label="initial centre")
     if order.size <= FEW:
         ax.set_yticks(rank, [f"MF{k + 1}" for k in order], fontsize=7)
@@ -47,8 +58,22 @@ def _ordered(ax, model, i: int, after, before) -> None:
     ax.set_ylabel("MFs ordered by centre")
 
 
+def _membership_panel(ax, x, shown, after, before, label: str) -> None:
+    """The trained MFs, coloured along ORDER_CMAP by centre (thin where more than FEW), and the initial ones
+    (dashed grey) where there are at most FEW: beyond that the ordered panel below shows their centres."""
+    count = after[0].size
+    crowded = count > FEW
+    if not crowded:
+        _curves(ax, x, shown, *before, {"ls": "--", "lw": 0.8, "color": "0.55", "alpha": 0.8})
+    width = 0.8 if crowded else 1.4
+    _curves(ax, x, shown, *after, {"ls": "-", "lw": width, "alpha": 0.9}, colours=_rank_colours(after[0]))
+    note = " (initial: centres below)" if crowded else ""
+    ax.set(ylabel="membership", ylim=(0, 1.05), title=f"{label}: {count} MF{'s' if count > 1 else ''}{note}")
+
+
 def membership_figure(model):
-    """Per input: the MFs after (solid) and before (dashed) training, and each MF's centre and width ordered by centre.
+    """Per input: the MFs after training (coloured by the order of their centre) and before (dashed, where at most
+    FEW), and each MF's centre and width ordered by centre.
 
     ``model``: a DampingModel (K in N/m on a log axis where learnt as log10 K) or a bare ANFIS. No per-MF legend:
     readable at 2 MFs and at 65. Grey: outside the training range (inputs are clamped to it), shown where a centre
@@ -61,12 +86,8 @@ def membership_figure(model):
     before, after = est.membership_functions(initial=True), est.membership_functions()
     for i in range(n):
         x, shown, label, log = _axis(model, i)
-        count = after[i][0].size
-        alpha = float(np.clip(6.0 / count, 0.25, 1.0))
         top, bottom = axes[0, i], axes[1, i]
-        _curves(top, x, shown, *before[i], {"ls": "--", "lw": 0.8, "color": "0.55", "alpha": alpha})
-        _curves(top, x, shown, *after[i], {"lw": 1.4, "color": "C0", "alpha": alpha})
-        top.set(ylabel="membership", ylim=(0, 1.05), title=f"{label}: {count} MF{'s' if count > 1 else ''}")
+        _membership_panel(top, x, shown, after[i], before[i], label)
         _ordered(bottom, model, i, after[i], before[i])
         centres = np.concatenate([after[i][0], before[i][0]])
         span = x[-1] - x[0]
@@ -80,8 +101,9 @@ def membership_figure(model):
             for a, b in ((limits[0], shown[0]), (shown[-1], limits[1])):  # outside the training range: clamped
                 if b > a:
                     ax.axvspan(a, b, color="0.9", zorder=0)
-    axes[0, 0].plot([], [], color="C0", label="trained")
-    axes[0, 0].plot([], [], ls="--", color="0.55", label="initial")
+    axes[0, 0].plot([], [], color=plt.get_cmap(ORDER_CMAP)(0.5), label="trained (colour: centre order)")
+    if any(mf[0].size <= FEW for mf in after):  # initial MFs drawn somewhere
+        axes[0, 0].plot([], [], ls="--", color="0.55", label="initial")
     axes[0, 0].legend(fontsize=7, loc="lower left")
     axes[1, 0].legend(fontsize=7, loc="lower right")
     return fig
@@ -106,9 +128,10 @@ def training_figure(record: xr.Dataset):
     ax2.loglog(ref[~train], pred[~train], "s", ms=4, alpha=0.8, label="checking")
     lims = [min(ref.min(), pred.min()), max(ref.max(), pred.max())]
     ax2.plot(lims, lims, "k--", lw=0.8)
-    title = f"checking: median relative error {record.attrs['check_median_relative_error']:.0%}"
+    scores = [f"median relative error {record.attrs['check_median_relative_error']:.0%}"]
     if "check_regret_mean" in record.attrs:
-        title += f", mean regret {record.attrs['check_regret_mean']:.3f}"
+        scores.append(f"mean regret {record.attrs['check_regret_mean']:.3f}")
+    title = "checking rows:\n" + ", ".join(scores)  # two lines: one would overrun the panel's width
     ax2.set(xlabel="reference optimal C (N s/m)", ylabel="ANFIS C (N s/m)", title=title)
     ax2.legend()
     return fig
@@ -157,6 +180,31 @@ def _candidates(axes, record: xr.Dataset) -> None:
         ax.legend(fontsize=7)
 
 
+def _regret_points(ax, record: xr.Dataset, colours: list[str]) -> None:
+    """Checking regret - 1 per model as points (mean filled, max hollow): a log axis where they span more than a
+    decade, else a linear one from 0 (points, not bars: a bar on a log axis has no base)."""
+    mean, worst = record.check_regret_mean.values - 1, record.check_regret_max.values - 1
+    xm = np.arange(mean.size)
+    for x, m, w, c in zip(xm, mean, worst, colours, strict=True):
+        ax.plot(x, m, "o", color=c, ms=8, ls="none")
+        ax.plot(x, w, "v", mfc="none", mec=c, mew=1.5, ms=8, ls="none")
+    ax.plot([], [], "o", color="0.4", ls="none", label="mean")
+    ax.plot([], [], "v", mfc="none", mec="0.4", mew=1.5, ls="none", label="max")
+    ax.set_xlim(-0.5, mean.size - 0.5)
+    shown = np.concatenate([mean, worst])
+    shown = shown[np.isfinite(shown) & (shown > 0)]
+    log = bool(shown.size) and shown.max() / shown.min() > 10
+    if log:
+        ax.set_yscale("log")
+        ax.margins(y=0.15)
+        plain_log_ticks(ax)
+    else:
+        ax.set_ylim(0, 1.25 * float(shown.max()) if shown.size else 1.0)
+    scale = "log; " if log else ""
+    ax.set(ylabel=f"regret - 1 ({scale}regret = criterion / optimal)", title="checking rows: regret")
+    ax.legend(fontsize=8, loc="best")
+
+
 def _models(axes, record: xr.Dataset) -> None:
     models = [str(v) for v in record.model.values]
     xm = np.arange(len(models))
@@ -166,13 +214,8 @@ def _models(axes, record: xr.Dataset) -> None:
     ax.set_xticks(xm, models)
     ax.set(ylabel=f"RMSE ({record.check_rmse_target.attrs['units']})", title="checking rows: learnt target")
     if "check_regret_mean" in record:
-        ax = axes[1]
-        ax.bar(xm, record.check_regret_mean - 1, color=colours, label="mean")
-        ax.plot(xm, record.check_regret_max - 1, "kv", label="max")
-        ax.set_xticks(xm, models)
-        ax.set_yscale("log")
-        ax.set(ylabel="regret - 1 (log; regret = criterion / optimal)", title="checking rows: regret")
-        ax.legend(fontsize=8)
+        _regret_points(axes[1], record, colours)
+        axes[1].set_xticks(xm, models)
 
 
 def selection_figure(record: xr.Dataset):

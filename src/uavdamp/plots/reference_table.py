@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.colors import LogNorm  # noqa: E402
+from matplotlib.patches import Patch, Rectangle  # noqa: E402
 
 from uavdamp.plots.style import number, plain_log_ticks, stiffness_label  # noqa: E402
 
@@ -55,6 +56,33 @@ def _heatmaps(subfig, data: xr.DataArray, stiffness, norm, cmap: str, extent, co
     return images
 
 
+# `optimum_at_grid_edge` flags (uavdamp.reference_table.criteria.EDGE_ATTRS) -> hatch and legend entry
+EDGE_HATCHES = {
+    1: ("\\\\\\\\", "at the C grid's lowest value: a bound, not an optimum"),
+    2: ("////", "at the C grid's highest value: a bound, not an optimum"),
+    3: ("xx", "at the damper's own bound (a grid edge)"),
+}
+
+
+def _mark_grid_edges(images, flags: xr.DataArray, stiffness) -> list[Patch]:
+    """Hatch each cell of the optimal-C `images` (one per stiffness) whose optimum lies on an edge of the C grid
+    (black on light cells, white on dark ones); returns the legend handles of the flags found."""
+    found = set()
+    for image, k in zip(images, stiffness, strict=True):
+        x0, x1, y0, y1 = image.get_extent()
+        values, colours = flags.sel(stiffness=k).values, image.to_rgba(image.get_array())
+        width, height = (x1 - x0) / values.shape[1], (y1 - y0) / values.shape[0]
+        for (i, j), flag in np.ndenumerate(values):
+            if int(flag) not in EDGE_HATCHES:
+                continue
+            found.add(int(flag))
+            light = float(np.dot(colours[i, j, :3], (0.299, 0.587, 0.114))) > 0.5
+            cell = Rectangle((x0 + j * width, y0 + i * height), width, height, fill=False, lw=0)
+            cell.set(hatch=EDGE_HATCHES[int(flag)][0], edgecolor="k" if light else "w")
+            image.axes.add_patch(cell)
+    return [Patch(fc="0.75", ec="k", hatch=EDGE_HATCHES[f][0], label=EDGE_HATCHES[f][1]) for f in sorted(found)]
+
+
 def reference_table_figure(table: xr.Dataset):
     """The table of one criterion and window at a glance, on a laptop screen.
 
@@ -75,7 +103,15 @@ def reference_table_figure(table: xr.Dataset):
     f_norm = LogNorm(vmin=1.0, vmax=max(float(flat.max()), 2.0))  # a colour bar from 1 to at least 2
     extent = _extent(table)
     what = f"{table.attrs.get('criterion', '')}, {table.attrs.get('window', '')} window".strip(", ")
-    _heatmaps(left, c, stiffness, c_norm, "viridis", extent, "optimal C (N s/m)", f"optimal damping C ({what})")
+    images = _heatmaps(
+        left, c, stiffness, c_norm, "viridis", extent, "optimal C (N s/m)", f"optimal damping C ({what})"
+    )
+    if "optimum_at_grid_edge" in table:
+        edges = _mark_grid_edges(images, table.optimum_at_grid_edge, stiffness)
+        if edges:
+            left.legend(
+                handles=edges, loc="outside lower center", fontsize=7, title="hatched: optimal C", title_fontsize=7
+            )
     _heatmaps(
         right,
         flat,

@@ -9,9 +9,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Patch  # noqa: E402
 
-from uavdamp.plots.style import early_peak, move_from_start, plain_log_ticks, stiffness_label  # noqa: E402
+from uavdamp.plots.style import (  # noqa: E402
+    TIME_WINDOW_S,
+    early_peak,
+    move_from_start,
+    plain_log_ticks,
+    stiffness_label,
+    time_window_label,
+)
 
 COLOURS = {
     "rigid": "tab:gray",
@@ -83,8 +89,11 @@ def _damping_axis(ax, values) -> None:
         ax.ticklabel_format(axis="y", style="plain", useOffset=False)
 
 
-def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: float = 2.0, early_s: float = 0.5):
-    """Fig. 10 analogue: the camera without isolation, with the input and the paper's 1.5 mm mark.
+def rigid_mount_figure(
+    ds: xr.Dataset, case: str, axis: str = "y", window_s: float = TIME_WINDOW_S, early_s: float = 0.5
+):
+    """Fig. 10 analogue: the camera without isolation, with the input and the paper's 1.5 mm mark, over the first
+    `window_s` of the run (`style.TIME_WINDOW_S`).
 
     Both curves are drawn relative to their value at t = 0 (the input's offset: `style.move_from_start`); the
     title's peak is the largest such move up to `early_s`."""
@@ -100,7 +109,7 @@ def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: flo
     peak, at = early_peak(camera.time.values, 1e3 * camera.values, early_s)
     ax.plot(at, float(np.sign(_mm_from_start(camera)[camera.time.values == at][0])) * peak, "o", color="tab:red")
     ax.set(
-        xlabel="time (s)",
+        xlabel=time_window_label(full.time.values, window_s),
         ylabel=f"{axis.upper()} from its start (mm)",
         title=f"{case}: camera {axis.upper()} on a rigid mount\n"
         f"largest move from the start before {early_s:g} s (dot): {peak:.2f} mm; paper: > 1.5 mm",
@@ -110,9 +119,10 @@ def rigid_mount_figure(ds: xr.Dataset, case: str, axis: str = "y", window_s: flo
 
 
 def passive_vs_anfis_figure(
-    ds: xr.Dataset, case: str, axis: str, stiffness: float, window_s: float = 3.0, early_s: float = 0.5
+    ds: xr.Dataset, case: str, axis: str, stiffness: float, window_s: float = TIME_WINDOW_S, early_s: float = 0.5
 ):
-    """Figs. 11 and 13 analogue: the camera with passive and with ANFIS semi-active damping, and C(t).
+    """Figs. 11 and 13 analogue: the camera with passive and with ANFIS semi-active damping, and C(t), over the
+    first `window_s` of the run (`style.TIME_WINDOW_S`).
 
     The camera is drawn relative to its value at t = 0 (the input's offset, the same for both: the platform
     starts at rest there; `style.move_from_start`); each legend entry gives the largest such move up to
@@ -147,7 +157,7 @@ def passive_vs_anfis_figure(
         loc="outside lower center",
         ncols=2,
     )
-    axc.set(xlabel="time (s)", ylabel="C (N s/m)")
+    axc.set(xlabel=time_window_label(full.time.values, window_s), ylabel="C (N s/m)")
     _damping_axis(axc, part.damping.sel(strategy=["passive", "anfis"]).values)
     return fig
 
@@ -187,12 +197,68 @@ def tracked_frequency_figure(ds: xr.Dataset, case: str, axis: str = "z"):
     return fig
 
 
-def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 2.0, early_s: float = 0.5):
-    """Every strategy side by side for one case: camera y and z and C(t) per stiffness, and the metrics.
+def _camera_panel(ax, part: xr.Dataset, k: float, axis: str, names: list[str]) -> None:
+    """Camera `axis` of every strategy from its start; the rigid mount clipped where its scale would hide the rest."""
+    moves = {s: _mm_from_start(part.camera_displacement.sel(stiffness=k, strategy=s, axis=axis)) for s in names}
+    for strategy, move in moves.items():
+        ax.plot(part.time.values, move, **_style(strategy, names))
+    title = f"{stiffness_label(k)}, {axis.upper()}"
+    isolated = [np.nanmax(np.abs(m)) for s, m in moves.items() if s != "rigid"]
+    if "rigid" in moves and isolated and np.nanmax(np.abs(moves["rigid"])) > 2.5 * max(isolated):
+        ax.set_ylim(-1.15 * max(isolated), 1.15 * max(isolated))  # the rigid mount's scale would hide them
+        title += " (rigid clipped)"
+    ax.set(ylabel=f"camera {axis.upper()} from start (mm)", title=title)
+
+
+def _damping_panel(ax, part: xr.Dataset, k: float, names: list[str]) -> set[str]:
+    """C(t) of every isolated strategy; returns the fast-switching ones, drawn as their running mean."""
+    time, shown, averaged = part.time.values, [], set()
+    for strategy in names:
+        damping = part.damping.sel(stiffness=k, strategy=strategy).values
+        if strategy == "rigid" or not np.isfinite(damping).any():
+            continue
+        if _fast_switching(time, damping):
+            averaged.add(strategy)
+            damping = _running_mean(time, damping, MEAN_WINDOW_S)
+            ax.plot(time, np.where(damping > 0, damping, np.nan), **_style(strategy, names))
+        else:
+            ax.step(time, damping, where="post", **_style(strategy, names))
+        shown.append(damping)
+    ax.set(ylabel="C (N s/m)", title=f"{stiffness_label(k)}: damping")
+    _damping_axis(ax, np.concatenate(shown) if shown else [])
+    return averaged
+
+
+# the metrics panel's markers (a log axis: points, not bars, which would need a base)
+STD_MARKER, PEAK_MARKER = "o", "D"
+
+
+def _metrics_panel(ax, full: xr.Dataset, k: float, names: list[str], early_s: float) -> None:
+    """Per strategy: the std over the whole run (filled dot) and the largest move before `early_s` (hollow
+    diamond), on a log axis."""
+    x = np.arange(len(names))
+    std = 1e3 * np.sqrt((full.std_total.sel(stiffness=k) ** 2).sum("axis")).values
+    camera = full.camera_displacement.sel(stiffness=k)
+    time = full.time.values
+    peak = [max(early_peak(time, 1e3 * camera.sel(strategy=s, axis=a), early_s)[0] for a in ("y", "z")) for s in names]
+    for i, name in enumerate(names):
+        c = colour(name, names)
+        ax.plot(x[i] - 0.12, std[i], STD_MARKER, color=c, ms=7, ls="none")
+        ax.plot(x[i] + 0.12, peak[i], PEAK_MARKER, mfc="none", mec=c, mew=1.6, ms=7, ls="none")
+    ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
+    ax.set(ylabel="camera (mm)", yscale="log", title=f"{stiffness_label(k)}: metrics", xlim=(-0.6, len(names) - 0.4))
+    ax.margins(y=0.12)
+    plain_log_ticks(ax)
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+
+
+def strategies_figure(ds: xr.Dataset, case: str, window_s: float = TIME_WINDOW_S, early_s: float = 0.5):
+    """Every strategy side by side for one case: camera y and z and C(t) per stiffness over the first `window_s`
+    of the run (`style.TIME_WINDOW_S`), and the metrics (markers on a log axis).
 
     Camera displacements are drawn from their value at t = 0 (the input's offset). A law switching faster than
     FAST_SWITCHING_PER_S is drawn as its running mean over MEAN_WINDOW_S, so it does not hide the others. One
-    legend (strategies) and one key (bars) beside the panels."""
+    legend (strategies) and one key (metrics) beside the panels."""
     names = [str(s) for s in ds.strategy.values]
     n_k = ds.sizes["stiffness"]
     fig, axes = plt.subplots(
@@ -200,56 +266,14 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 2.0, early_s:
     )
     full = ds.sel(case=case)
     part = full.sel(time=slice(0, window_s))
-    time = part.time.values
     averaged = set()
     for row, k in enumerate(ds.stiffness.values):
         for col, axis in enumerate(("y", "z")):
-            ax = axes[row, col]
-            moves = {s: _mm_from_start(part.camera_displacement.sel(stiffness=k, strategy=s, axis=axis)) for s in names}
-            for strategy, move in moves.items():
-                ax.plot(time, move, **_style(strategy, names))
-            title = f"{stiffness_label(k)}, {axis.upper()}"
-            isolated = [np.nanmax(np.abs(m)) for s, m in moves.items() if s != "rigid"]
-            if "rigid" in moves and isolated and np.nanmax(np.abs(moves["rigid"])) > 2.5 * max(isolated):
-                ax.set_ylim(-1.15 * max(isolated), 1.15 * max(isolated))  # the rigid mount's scale would hide them
-                title += " (rigid clipped)"
-            ax.set(ylabel=f"camera {axis.upper()} from start (mm)", title=title)
-        ax = axes[row, 2]
-        shown = []
-        for strategy in names:
-            damping = part.damping.sel(stiffness=k, strategy=strategy).values
-            if strategy == "rigid" or not np.isfinite(damping).any():
-                continue
-            if _fast_switching(time, damping):
-                averaged.add(strategy)
-                damping = _running_mean(time, damping, MEAN_WINDOW_S)
-                ax.plot(time, np.where(damping > 0, damping, np.nan), **_style(strategy, names))
-            else:
-                ax.step(time, damping, where="post", **_style(strategy, names))
-            shown.append(damping)
-        ax.set(ylabel="C (N s/m)", title=f"{stiffness_label(k)}: damping")
-        _damping_axis(ax, np.concatenate(shown) if shown else [])
-        ax = axes[row, 3]
-        x = np.arange(len(names))
-        std = 1e3 * np.sqrt((full.std_total.sel(stiffness=k) ** 2).sum("axis")).values
-        peak = [
-            max(
-                early_peak(
-                    full.time.values, 1e3 * full.camera_displacement.sel(stiffness=k, strategy=s, axis=a), early_s
-                )[0]
-                for a in ("y", "z")
-            )
-            for s in names
-        ]
-        colours = [colour(s, names) for s in names]
-        ax.bar(x - 0.2, std, 0.4, color=colours)
-        ax.bar(x + 0.2, peak, 0.4, color=colours, hatch="///", edgecolor="w", lw=0)
-        ax.set_xticks(x, names, rotation=30, ha="right", fontsize=8)
-        ax.set(ylabel="camera (mm)", yscale="log", title=f"{stiffness_label(k)}: metrics")
-        plain_log_ticks(ax)
-        ax.grid(True, axis="y", which="both", alpha=0.3)
+            _camera_panel(axes[row, col], part, k, axis, names)
+        averaged |= _damping_panel(axes[row, 2], part, k, names)
+        _metrics_panel(axes[row, 3], full, k, names, early_s)
     for ax in axes[-1, :3]:
-        ax.set_xlabel("time (s)")
+        ax.set_xlabel(time_window_label(full.time.values, window_s))
     lines = [
         Line2D(
             [],
@@ -260,11 +284,20 @@ def strategies_figure(ds: xr.Dataset, case: str, window_s: float = 2.0, early_s:
         for s in names
     ]
     fig.legend(handles=lines, loc="outside right upper", fontsize=8, title="strategy", title_fontsize=8)
-    bars = [
-        Patch(facecolor="0.5", label="std, whole run\n(y, z combined)"),
-        Patch(facecolor="0.5", hatch="///", edgecolor="w", label=f"largest move\nbefore {early_s:g} s\n(max of y, z)"),
+    keys = [
+        Line2D([], [], marker=STD_MARKER, color="0.4", ls="none", label="std, whole run\n(y, z combined)"),
+        Line2D(
+            [],
+            [],
+            marker=PEAK_MARKER,
+            mfc="none",
+            mec="0.4",
+            mew=1.6,
+            ls="none",
+            label=f"largest move\nbefore {early_s:g} s\n(max of y, z)",
+        ),
     ]
-    fig.legend(handles=bars, loc="outside right lower", fontsize=8, title="metrics bars", title_fontsize=8)
+    fig.legend(handles=keys, loc="outside right lower", fontsize=8, title="metrics", title_fontsize=8)
     fig.suptitle(f"{case}: all strategies (camera drawn from its position at t = 0)", fontsize=12)
     return fig
 
@@ -315,7 +348,8 @@ def blur_distribution_figure(ds: xr.Dataset):
 
 
 def sharp_fraction_figure(ds: xr.Dataset):
-    """The fraction of sharp frames per strategy: grouped bars per case and stiffness, the legend beside."""
+    """The fraction of sharp frames per strategy: grouped bars per case and stiffness, the legend beside. The
+    axis runs from 0 to just above the largest fraction (the fractions may all be small)."""
     names = [str(s) for s in ds.strategy.values]
     groups = [(str(c), float(k)) for c in ds.case.values for k in ds.stiffness.values]
     fig, ax = plt.subplots(figsize=(2.8 + 1.3 * len(groups) * len(names) / 4, 3.8), layout="constrained")
@@ -327,7 +361,12 @@ def sharp_fraction_figure(ds: xr.Dataset):
     ax.set_xticks(x, [f"{c}\n{stiffness_label(k)}" for c, k in groups], fontsize=8)
     threshold = ds.attrs.get("camera_sharp_threshold_px")
     rule = f"blur <= {float(threshold):g} px" if threshold is not None else "sharp"
-    ax.set(ylim=(0, 1.05), ylabel=f"fraction of frames with {rule} (1)", title="Sharp frames per strategy")
+    top = float(np.nanmax(ds.sharp_fraction.values, initial=0.0))
+    ax.set(
+        ylim=(0, min(1.05, 1.15 * top) if top > 0 else 0.05),
+        ylabel=f"sharp frames ({rule})\n/ all frames of the run (1)",
+        title="Sharp frames per strategy: share of each run's frames",
+    )
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     ax.grid(True, axis="y", alpha=0.3)
     return fig

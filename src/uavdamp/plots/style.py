@@ -3,6 +3,10 @@
 Limits every figure keeps (tests/test_figures_readable.py checks them): at most MAX_WIDTH_PX x MAX_HEIGHT_PX at
 the saved dpi (`uavdamp.io.save_figure`: 120), at most MAX_LEGEND_ENTRIES entries in any legend, legends outside
 the data (beside the axes or in the figure's margin), units on every axis.
+
+Time series (the study's camera figures, the fuselage vibration) show the first TIME_WINDOW_S seconds of their run,
+from t = 0 (the runs start from rest, and the paper's figures read the start-up), or the whole run where it is
+shorter; their time axis says which (`time_window_label`).
 """
 
 from __future__ import annotations
@@ -16,6 +20,8 @@ MAX_HEIGHT_PX = 1400
 MAX_LEGEND_ENTRIES = 8
 # spectra on a log axis are shown down to this fraction of their peak; below it lies numerical noise
 SPECTRUM_DYNAMIC_RANGE = 1e-6
+# s, the window every time-series figure shows: the first TIME_WINDOW_S s of its run
+TIME_WINDOW_S = 2.0
 
 
 def number(value: float) -> str:
@@ -29,6 +35,15 @@ def number(value: float) -> str:
 def stiffness_label(k: float) -> str:
     """'K = 1000 N/m'."""
     return f"K = {number(k)} N/m"
+
+
+def time_window_label(time, window_s: float = TIME_WINDOW_S) -> str:
+    """The time axis label of a figure showing `time` (s, the whole run) up to `window_s`: which part it shows."""
+    time = np.asarray(time, dtype=float)
+    run = float(time[-1] - time[0]) if time.size else 0.0
+    if window_s >= run:
+        return f"time (s), the whole {number(run)} s run"
+    return f"time (s), first {number(window_s)} s of the {number(run)} s run"
 
 
 def plain_log_ticks(ax, axis: str = "y") -> None:
