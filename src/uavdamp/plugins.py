@@ -1,6 +1,6 @@
 """Plug-in laws: a researcher's strategies (and benchmark controllers) in their own Python file.
 
-The config's top-level ``plugins`` lists files (paths relative to the working directory, as Snakemake runs); each is
+The config's top-level ``plugins`` lists files (paths relative to the run directory, where Snakemake runs); each is
 imported by `load` with importlib from its path (no package, no sys.path edit), and registers what it defines with
 `uavdamp.study.strategies.register` when it is imported (and a parameter the benchmark should tune with
 `uavdamp.benchmark.tuning.register_tuned`). One registry serves the study (``study.strategies``) and the
@@ -41,7 +41,10 @@ def load(paths) -> list[dict]:
     for given in paths:
         path = Path(given)
         if not path.is_file():
-            raise FileNotFoundError(f"plugins: no file {str(given)!r} (paths are relative to the working directory)")
+            raise FileNotFoundError(
+                f"plugins: no file {str(given)!r} (paths are relative to the run directory, where Snakemake "
+                f"runs: {Path.cwd()})"
+            )
         key = str(path.resolve())
         if key not in _LOADED:
             digest = sha256(path)
@@ -73,7 +76,7 @@ class PluginError(RuntimeError):
 
 def data_files(module, given) -> list[Path]:
     """The files a plug-in module declares it reads (``DATA_FILES``, relative to the plug-in file), each checked to
-    exist; paths as the plug-in's own path is given (relative to the working directory when it is)."""
+    exist; paths as the plug-in's own path is given (relative to the run directory when it is)."""
     declared = getattr(module, "DATA_FILES", [])
     if isinstance(declared, (str, bytes)) or not all(isinstance(d, str) for d in declared):
         raise PluginError(f"plugins: {str(given)!r}: DATA_FILES must be a list of file names, got {declared!r}")
