@@ -29,6 +29,14 @@ rule payload:
             category="Payload",
             labels={"figure": "line of sight per payload, mount and damping"},
         ),
+        transmissibility=report(
+            f"{OUT}/figures/payload_transmissibility.png",
+            caption="../report/payload_transmissibility.rst",
+            category="Payload",
+            labels={
+                "figure": "mount motion to line of sight per mount, fixed camera or gimbal"
+            },
+        ),
     log:
         f"{OUT}/logs/payload.log",
     benchmark:

@@ -1,4 +1,7 @@
-"""Snakemake script: the payload stage -> payload/comparison.nc, payload/design.nc and the line-of-sight figure."""
+"""Snakemake script: the payload stage -> payload/comparison.nc, payload/design.nc (modes, loops, transmissibility)
+and the line-of-sight and transmissibility figures."""
+
+import xarray as xr
 
 from uavdamp import integrity, io, workflow
 from uavdamp.camera.optics import CameraModel
@@ -6,7 +9,7 @@ from uavdamp.platform import PlatformParams
 from uavdamp.plots import payload as plots
 from uavdamp.settings import parse
 from uavdamp.sources.stated import StatedSource
-from uavdamp.study import payload
+from uavdamp.study import payload, transmissibility
 
 workflow.start_log(snakemake.log[0])
 job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
@@ -17,12 +20,13 @@ camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}
 cases = io.open_dataset(snakemake.input.cases)
 ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera)
-design = payload.design_dataset(section)
+design = xr.merge([payload.design_dataset(section), transmissibility.dataset(section)], combine_attrs="override")
 for name in ("los_rms", "best_damping"):
     workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 config = {"payload": p.payload, "sources": p.sources, "camera": p.camera, "platform": p.platform}
 command = workflow.snakemake_command(snakemake)
 with job.writing():  # under the outputs' lock; a later run's outputs are never replaced
     io.save_figure(plots.line_of_sight_figure(ds), snakemake.output.figure)
+    io.save_figure(plots.transmissibility_figure(design), snakemake.output.transmissibility)
     io.write_netcdf(ds, snakemake.output.comparison, config, section="payload", command=command)
     io.write_netcdf(design, snakemake.output.design, config, section="payload", command=command)

@@ -1,4 +1,4 @@
-"""Payload figure: the camera's line of sight (µrad rms) per payload and mount against the isolator's damping, one
+"""Payload figures: the camera's line of sight (µrad rms) per payload and mount against the isolator's damping, one
 panel per input, beside the gimbal makers' ±0.01° (175 µrad) angular-vibration anchor."""
 
 from __future__ import annotations
@@ -102,3 +102,75 @@ def _wrap(text: str, width: int) -> str:
             line = f"{line} {word}".strip()
     lines.append(line)
     return "\n".join(lines[:3]) + (" …" if len(lines) > 3 else "")
+
+
+MOUNT_COLORS = {"rigid": "0.35", "yz": "tab:green", "six_axis": "tab:purple"}
+MOUNT_WIDTHS = {"rigid": 3.2, "yz": 1.8, "six_axis": 1.4}  # wide to narrow: a curve another hides shows around it
+CARRIED_STYLES = {"fixed": "--", "gimbal": "-"}
+CARRIED_LABELS = {"fixed": "camera fixed to the mount", "gimbal": "stabilised gimbal"}
+G = 9.80665  # m s-2
+
+
+def transmissibility_figure(design: xr.Dataset) -> Figure:
+    """The isolator makers' curves to the line of sight (`uavdamp.study.transmissibility`): top, |line of sight|
+    per mount rotation about the same axis (rad/rad); bottom, |line of sight| (all axes) per mount acceleration
+    along x, y, z (µrad per g); mount by colour, fixed camera or gimbal by line style, the six-axis isolator's
+    modes as ticks on the top axes. A zero response (a fixed camera on the rigid mount under a translation) is not
+    drawn."""
+    fig = Figure(figsize=(14.0, 7.6), layout="constrained")
+    axes = fig.subplots(2, 3, sharex=True)
+    f = design.frequency.values
+    for row, (name, dim, scale) in enumerate(
+        (("los_per_rotation", "axis", 1.0), ("los_per_acceleration", "direction", G * URAD_PER_RAD))
+    ):
+        for ax, label in zip(axes[row], design[dim].values, strict=True):
+            drawn = 0
+            for mount in design.mount.values:
+                for carried in design.carried.values:
+                    y = design[name].sel({"mount": mount, "carried": carried, dim: label}).values * scale
+                    y = np.where(y > 1e-12 * scale, y, np.nan)  # zero to rounding: none
+                    color, style = MOUNT_COLORS.get(str(mount)), CARRIED_STYLES.get(str(carried))
+                    drawn += int(np.any(np.isfinite(y)))
+                    ax.plot(f, y, style, color=color, lw=MOUNT_WIDTHS.get(str(mount), 1.4), alpha=0.85)
+            _mode_ticks(ax, design)
+            ax.set_xscale("log")
+            if drawn:
+                ax.set_yscale("log")
+            else:
+                ax.text(0.5, 0.5, "no line of sight on any mount", transform=ax.transAxes, ha="center", va="center")
+                ax.set_yticks([])
+            ax.grid(True, which="both", alpha=0.3)
+            plain_log_ticks(ax, "x")
+            if row == 0:
+                ax.set_title(f"{label}: line of sight per mount {label}", fontsize=10)
+                ax.set_ylabel("line of sight / mount rotation (rad/rad)")
+            else:
+                ax.set_title(f"all axes: line of sight per mount acceleration along {label}", fontsize=10)
+                ax.set_ylabel("line of sight (µrad per g)")
+                ax.set_xlabel("frequency of the mount's sine motion (Hz)")
+    fig.legend(*_transmissibility_legend(design), loc="outside right upper", fontsize=8)
+    damping = number(float(design.attrs.get("damping_N_s_m", np.nan)))
+    fig.suptitle(f"Mount motion to camera line of sight, closed form (isolators at C = {damping} N s/m)", fontsize=11)
+    return fig
+
+
+def _mode_ticks(ax, design: xr.Dataset) -> None:
+    """The six-axis isolator's rigid-body modes as short ticks at the top of the axes."""
+    if "mode_frequency" not in design or "six_axis" not in design.mount.values:
+        return
+    for mode in design.mode_frequency.sel(mount="six_axis").values:
+        if np.isfinite(mode):
+            ax.axvline(mode, ymin=0.93, ymax=1.0, color=MOUNT_COLORS["six_axis"], lw=1.5)
+
+
+def _transmissibility_legend(design: xr.Dataset) -> tuple[list, list[str]]:
+    handles = [
+        Line2D([], [], color=MOUNT_COLORS.get(str(m)), lw=MOUNT_WIDTHS.get(str(m), 2)) for m in design.mount.values
+    ]
+    labels = [LABELS.get(str(m), str(m)) for m in design.mount.values]
+    handles += [Line2D([], [], color="0.3", ls=CARRIED_STYLES.get(str(c)), lw=1.4) for c in design.carried.values]
+    labels += [CARRIED_LABELS.get(str(c), str(c)) for c in design.carried.values]
+    if "mode_frequency" in design and "six_axis" in design.mount.values:
+        handles.append(Line2D([], [], color=MOUNT_COLORS["six_axis"], lw=1.5))
+        labels.append("six-axis isolator modes (ticks)")
+    return handles, labels
