@@ -25,11 +25,11 @@ from uavdamp.study.payload import (
     PayloadSection,
     compare_inputs,
     compare_payloads,
-    design_dataset,
     gimbal_params,
     inputs,
     six_axis_isolator,
 )
+from uavdamp.study.payload_design import design_dataset
 
 H = 5.0e-4  # s, the runs' grid
 CAMERA = parse(CameraModel, load_config()["camera"], "camera")

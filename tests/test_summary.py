@@ -312,3 +312,24 @@ def test_the_payload_table_and_findings_are_its_numbers():
     first, second = summary.payload_findings(ds)
     assert "gimbal on the six_axis mount at C = 3 N s/m, 100 µrad rms (within 175 µrad)" in first
     assert "paper_head on the rigid mount" in second and "does not rotate the mount" in second
+
+
+def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_constant_c():
+    """Skyhook runs at c_on 30 and 100 N s/m (75 and 90 µrad) against the gimbal's best constant C on the six-axis
+    isolator (100 µrad at C = 3): the finding names the 75 µrad run, c_on 30 and -25 %."""
+    los = np.full((1, 1, 1, 2), np.nan)
+    los[0, 0, 0] = [1e-4, 2e-3]
+    ds = xr.Dataset(
+        {
+            "los_rms": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
+            "law_los_rms": (("input", "law"), [[75e-6, 90e-6]], {"units": "rad"}),
+            "law_c_on": (("input", "law"), [[30.0, 100.0]], {"units": "N s m-1"}),
+        },
+        coords={"input": ["heli"], "payload": ["gimbal"], "mount": ["six_axis"], "damping": [3.0, 30.0]},
+    )
+    (finding,) = summary.payload_findings(ds)
+    assert (
+        "Skyhook on the six-axis isolator (gimbal): 75 µrad at c_on = 30 N s/m, -25 % against its best constant C"
+        in finding
+    )
+    assert "(100 µrad)" in finding

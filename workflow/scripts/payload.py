@@ -1,15 +1,13 @@
 """Snakemake script: the payload stage -> payload/comparison.nc, payload/design.nc (modes, loops, transmissibility)
 and the line-of-sight and transmissibility figures."""
 
-import xarray as xr
-
 from uavdamp import integrity, io, workflow
 from uavdamp.camera.optics import CameraModel
 from uavdamp.platform import PlatformParams
 from uavdamp.plots import payload as plots
 from uavdamp.settings import parse
 from uavdamp.sources.stated import StatedSource
-from uavdamp.study import payload, transmissibility
+from uavdamp.study import payload, payload_design
 
 workflow.start_log(snakemake.log[0])
 job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
@@ -20,7 +18,7 @@ camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}
 cases = io.open_dataset(snakemake.input.cases)
 ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera)
-design = xr.merge([payload.design_dataset(section), transmissibility.dataset(section)], combine_attrs="override")
+design = payload_design.design_dataset(section)
 for name in ("los_rms", "best_damping"):
     workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 config = {"payload": p.payload, "sources": p.sources, "camera": p.camera, "platform": p.platform}

@@ -95,10 +95,10 @@ def run(
                 z[k + 1] = step.phi @ z[k] + step.gamma_u @ u[k] + step.gamma_v @ slopes[k]
     plant = state_space(isolator)  # the outputs do not depend on the damping
     y = z @ plant.c.T + u @ plant.du.T + rates @ plant.dv.T
-    return _dataset(isolator, t, u, y, np.full_like(applied, np.nan) if own else applied)
+    return _dataset(isolator, t, u, y, np.full_like(applied, np.nan) if own else applied, z[:, 6:])
 
 
-def _dataset(isolator: SixAxisIsolator, t, u, y, applied) -> xr.Dataset:
+def _dataset(isolator: SixAxisIsolator, t, u, y, applied, body_rates) -> xr.Dataset:
     n_el = isolator.n_elements
     names = output_names(isolator)
     assert len(names) == y.shape[1]
@@ -113,6 +113,8 @@ def _dataset(isolator: SixAxisIsolator, t, u, y, applied) -> xr.Dataset:
             f"payload translation at its reference point, {frame}",
         ),
         "payload_rotation": (("axis", "time"), y[:, 3:6].T, "rad", f"payload small rotation, {frame}"),
+        "payload_velocity": (("axis", "time"), body_rates[:, :3].T, "m s-1", "payload velocity at its reference point"),
+        "payload_angular_rate": (("axis", "time"), body_rates[:, 3:].T, "rad s-1", "payload angular rate"),
         "mount_translation": (("axis", "time"), u[:, :3].T, "m", "prescribed mount translation"),
         "mount_rotation": (("axis", "time"), u[:, 3:].T, "rad", "prescribed mount small rotation"),
         "element_stroke": (("element", "axis", "time"), strokes, "m", "element stroke (payload relative to mount)"),

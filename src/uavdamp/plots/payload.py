@@ -53,7 +53,12 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
                 )
                 if np.any(below):  # e.g. a balanced head under a source without rotation: no line of sight at all
                     ax.plot(c[below], np.full(below.sum(), FLOOR_URAD), "v", color=color, ms=7, clip_on=False)
+        if "law_los_rms" in ds:  # on-off skyhook on the six-axis isolator, at its c_on
+            y = ds.law_los_rms.sel(input=name).values * URAD_PER_RAD
+            ax.plot(ds.law_c_on.sel(input=name).values, np.maximum(y, FLOOR_URAD), "*", color=COLORS["gimbal"], ms=10)
         ax.axhline(ANCHOR_URAD, color="k", lw=0.8, alpha=0.6)
+        ax.annotate("±0.01° (175 µrad)", (1.0, ANCHOR_URAD), xycoords=("axes fraction", "data"), ha="right",
+                    va="bottom", fontsize=7, alpha=0.8)  # fmt: skip
         if "floor_los_rms" in ds and "gimbal" in ds.payload.values:
             floor = float(ds.floor_los_rms.sel(payload="gimbal")) * URAD_PER_RAD
             if floor > 0:
@@ -78,13 +83,15 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
 
 
 def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
-    """Proxy entries: a colour per payload, a line style per mount, the anchor and the noise floor (at most 8)."""
+    """Proxy entries: a colour per payload, a line style per mount, the skyhook runs and the noise floor (at most
+    8; the anchor line is labelled on the axes)."""
     handles = [Line2D([], [], color=COLORS.get(str(p)), lw=2) for p in ds.payload.values]
     labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
     handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]
     labels += [LABELS.get(str(m), str(m)) for m in ds.mount.values]
-    handles.append(Line2D([], [], color="k", lw=0.8, alpha=0.6))
-    labels.append("±0.01° (175 µrad)")
+    if "law_los_rms" in ds:
+        handles.append(Line2D([], [], color=COLORS["gimbal"], ls="", marker="*", ms=10))
+        labels.append(f"gimbal, six-axis, skyhook (x: c_on;\nc_off {number(float(ds.damping.min()))} N s/m)")
     if "floor_los_rms" in ds and "gimbal" in ds.payload.values:
         handles.append(Line2D([], [], color="0.5", lw=0.8, ls="-."))
         labels.append("gimbal's sensor-noise floor")

@@ -292,8 +292,23 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
         text = f"**{i}.** Least line of sight: {where}{damping}, {fmt(value * 1e6, 3)} µrad rms ({side} 175 µrad)"
         if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
             text += "; this input does not rotate the mount, so a balanced camera sees none of it"
-        out.append(text + ".")
+        out.append(text + "." + _skyhook_finding(ds, i))
     return out
+
+
+def _skyhook_finding(ds: xr.Dataset, name) -> str:
+    """The best skyhook run on the six-axis isolator against the gimbal's best constant C there ('' without)."""
+    if "law_los_rms" not in ds:
+        return ""
+    law = ds.law_los_rms.sel(input=name)
+    k = int(np.nanargmin(law.values))
+    best = float(ds.los_rms.sel(input=name, payload="gimbal", mount="six_axis").min())
+    value, c_on = float(law.values[k]), float(ds.law_c_on.sel(input=name).values[k])
+    change = 100 * (value / best - 1)
+    return (
+        f" Skyhook on the six-axis isolator (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
+        f"{fmt(change, 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
+    )
 
 
 def descriptions(comparison: xr.Dataset, cases: xr.Dataset | None = None) -> list[tuple[str, dict[str, str]]]:

@@ -21,7 +21,8 @@ Choices and assumptions:
 - Every gimbal run draws its IMU noise from a fresh Generator of ``payload.seed`` (common random numbers: runs
   differ by the mount alone); ``floor_los_rms`` is the gimbal on a still mount (the heads': 0).
 - The six-axis isolator carries the gimbal's gravity (geometric stiffness); every element's damper is semi-active
-  at the candidate C along x, y and z. Its modes by default (`design_dataset`): 2.77 Hz (x + ry), 2.79 (y + rx),
+  at the candidate C along x, y and z. Its modes by default (`uavdamp.study.payload_design.design_dataset`):
+  2.77 Hz (x + ry), 2.79 (y + rx),
   5.81 (z), 6.48 (rz), 7.86 (ry + x), 8.17 Hz (rx + y); the Y-Z isolator's under the 1.5 kg gimbal: 4.11 Hz (y, z,
   the rest near-rigid at 1 kHz); the gimbal's rate loops cross at 40 Hz (50 deg; whole loop 39.7 deg, 9.6 dB),
   its attitude loops at 8 Hz. The heads' Y-Z damper takes the same C (within the platform's damper
@@ -43,14 +44,14 @@ from scipy import signal
 from uavdamp.camera.optics import CameraModel
 from uavdamp.contract import MountMotion, is_multiple
 from uavdamp.platform import PlatformParams
-from uavdamp.platform.gimbal import AXES, GimbalParams, design
-from uavdamp.platform.gimbal_loop import design_report
+from uavdamp.platform.gimbal import GimbalParams, design
 from uavdamp.platform.imu import STANDARD_GRAVITY, ImuParams
 from uavdamp.platform.plants import Plants
-from uavdamp.platform.six_axis import DOFS, KINDS, dominant_dofs, rigid_body_modes
+from uavdamp.platform.six_axis import KINDS
 from uavdamp.settings import ConfigError, require, setting
 from uavdamp.sources.excitation import case_motion
 from uavdamp.sources.stated import StatedSource, motion
+from uavdamp.study import payload_laws as laws
 from uavdamp.study import payload_runs as runs
 from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face)
     MECHANISM_MASS_KG,
@@ -291,7 +292,8 @@ def compare_payloads(
     ``best_damping`` (payload, mount) the C of the least ``los_rms`` (NaN: rigid, not modelled) and
     ``floor_los_rms`` (payload) the LOS rms on a still mount. Assumptions: module docstring."""
     setup = _setup(section, platform, camera)
-    return _dataset(setup, _values(setup, *_input(time, mount, section)), _floor(setup))
+    t, moved = _input(time, mount, section)
+    return _dataset(setup, _values(setup, t, moved), _floor(setup), laws.law_values(setup, t, moved))
 
 
 class PayloadInput(NamedTuple):
@@ -326,7 +328,9 @@ def compare_inputs(
     setup = _setup(section, platform, camera)
     floor = _floor(setup)
     gridded = [_input(i.time, i.mount, section) for i in found]  # each input resampled once
-    per_input = [_dataset(setup, _values(setup, t, moved), floor) for t, moved in gridded]
+    per_input = [
+        _dataset(setup, _values(setup, t, moved), floor, laws.law_values(setup, t, moved)) for t, moved in gridded
+    ]
     names = [i.name for i in found]
     ds = xr.concat([d.drop_vars("floor_los_rms") for d in per_input], dim="input", combine_attrs="override")
     ds = ds.assign_coords(input=("input", names, {"units": "1", "long_name": "input (study case or stated source)"}))
@@ -346,8 +350,9 @@ def _best_damping(section: PayloadSection, los_rms: np.ndarray) -> np.ndarray:
     return out
 
 
-def _dataset(setup: _Setup, values: dict, floor: np.ndarray) -> xr.Dataset:
+def _dataset(setup: _Setup, values: dict, floor: np.ndarray, law_values: dict) -> xr.Dataset:
     s = setup.section
+    law_data, law_coord = laws.law_variables(law_values, s)
     dims = ("payload", "mount", "damping")
     data = {name: (dims, v, runs.metric_attrs(name)) for name, v in values.items()}
     data["best_damping"] = (
@@ -360,7 +365,8 @@ def _dataset(setup: _Setup, values: dict, floor: np.ndarray) -> xr.Dataset:
         floor,
         {"units": "rad", "long_name": "line-of-sight rms on a still mount (the gimbal's sensor floor; heads 0)"},
     )
-    coords = {
+    data |= law_data
+    coords = law_coord | {
         "payload": ("payload", list(s.payloads), {"units": "1", "long_name": "camera payload"}),
         "mount": ("mount", list(s.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
         "damping": ("damping", np.asarray(s.damping, dtype=float), {"units": "N s m-1", "long_name": "damping C"}),
@@ -376,48 +382,4 @@ def _dataset(setup: _Setup, values: dict, floor: np.ndarray) -> xr.Dataset:
         "seed": s.seed,
         "coupling": "one-way: the gimbal motors' reaction torque on the isolated body is left out",
     }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
-def _modes(section: PayloadSection) -> tuple[np.ndarray, np.ndarray]:
-    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and "")."""
-    freqs = np.full((len(section.mounts), len(DOFS)), math.nan)
-    labels = np.full(freqs.shape, "", dtype=object)
-    for j, mount in enumerate(section.mounts):
-        found = isolator(section, mount, section.middle_damping)
-        if found is not None:
-            freqs[j], shapes = rigid_body_modes(found)
-            labels[j] = ["+".join(d) for d in dominant_dofs(shapes, found.payload)]
-    return freqs, labels.astype(str)
-
-
-def design_dataset(section: PayloadSection) -> xr.Dataset:
-    """The mounts' six rigid-body modes (Hz, at the middle C; rigid: NaN) with their dominant DOFs beside the
-    gimbal's designed and achieved loop crossovers and margins per stabilised axis (`gimbal_loop.design_report`)."""
-    freqs, labels = _modes(section)
-    p = gimbal_params(section)
-    report = design_report(p)
-    axes = list(report.axis.values)
-    designed = [p.rate_crossover_hz[AXES.index(a)] for a in axes]
-    per_axis = {
-        "rate_crossover_design": (designed, "Hz", "rate loop crossover specified"),
-        "rate_crossover": (report.rate_crossover_hz.values, "Hz", "rate loop crossover achieved"),
-        "rate_phase_margin": (report.rate_phase_margin_deg.values, "degree", "rate loop phase margin achieved"),
-        "whole_phase_margin": (
-            report.whole_phase_margin_deg.values,
-            "degree",
-            "whole loop phase margin (at the torque)",
-        ),
-        "whole_gain_margin": (report.whole_gain_margin_db.values, "1", "whole loop gain margin (at the torque), in dB"),
-        "attitude_crossover": (report.attitude_crossover_hz.values, "Hz", "attitude loop crossover achieved"),
-    }
-    data = {k: (("axis",), np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in per_axis.items()}
-    data["mode_frequency"] = (("mount", "mode"), freqs, {"units": "Hz", "long_name": "isolator rigid-body mode"})
-    data["mode_dofs"] = (("mount", "mode"), labels, {"units": "1", "long_name": "dominant DOFs of the mode (energy)"})
-    coords = {
-        "mount": ("mount", list(section.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
-        "mode": ("mode", np.arange(len(DOFS)), {"units": "1", "long_name": "rigid-body mode, ascending frequency"}),
-        "axis": ("axis", axes, {"units": "1", "long_name": "stabilised gimbal axis"}),
-    }
-    attrs = {"damping_N_s_m": section.middle_damping, "gimbal_payload_mass_kg": gimbal_payload(section).mass}
     return xr.Dataset(data, coords=coords, attrs=attrs)

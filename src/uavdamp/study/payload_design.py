@@ -1,0 +1,64 @@
+"""The payload's design in closed form, beside the runs: the mounts' six rigid-body modes, the gimbal's loops
+(crossovers and margins per stabilised axis) and what each mount passes from the mount's motion to the line of
+sight (`uavdamp.study.transmissibility`), as one dataset (the payload stage's ``payload/design.nc``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from uavdamp.platform.gimbal import AXES
+from uavdamp.platform.gimbal_loop import design_report
+from uavdamp.platform.six_axis import DOFS, dominant_dofs, rigid_body_modes
+from uavdamp.study import transmissibility
+from uavdamp.study.payload_runs import gimbal_params, gimbal_payload, isolator
+
+
+def _modes(section) -> tuple[np.ndarray, np.ndarray]:
+    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and "")."""
+    freqs = np.full((len(section.mounts), len(DOFS)), math.nan)
+    labels = np.full(freqs.shape, "", dtype=object)
+    for j, mount in enumerate(section.mounts):
+        found = isolator(section, mount, section.middle_damping)
+        if found is not None:
+            freqs[j], shapes = rigid_body_modes(found)
+            labels[j] = ["+".join(d) for d in dominant_dofs(shapes, found.payload)]
+    return freqs, labels.astype(str)
+
+
+def design_dataset(section) -> xr.Dataset:
+    """The mounts' six rigid-body modes (Hz, at the middle C; rigid: NaN) with their dominant DOFs beside the
+    gimbal's designed and achieved loop crossovers and margins per stabilised axis (`gimbal_loop.design_report`)
+    and the transmissibility to the line of sight (`uavdamp.study.transmissibility.dataset`); `section` a
+    `uavdamp.study.payload.PayloadSection`."""
+    freqs, labels = _modes(section)
+    p = gimbal_params(section)
+    report = design_report(p)
+    axes = list(report.axis.values)
+    designed = [p.rate_crossover_hz[AXES.index(a)] for a in axes]
+    per_axis = {
+        "rate_crossover_design": (designed, "Hz", "rate loop crossover specified"),
+        "rate_crossover": (report.rate_crossover_hz.values, "Hz", "rate loop crossover achieved"),
+        "rate_phase_margin": (report.rate_phase_margin_deg.values, "degree", "rate loop phase margin achieved"),
+        "whole_phase_margin": (
+            report.whole_phase_margin_deg.values,
+            "degree",
+            "whole loop phase margin (at the torque)",
+        ),
+        "whole_gain_margin": (report.whole_gain_margin_db.values, "1", "whole loop gain margin (at the torque), in dB"),
+        "attitude_crossover": (report.attitude_crossover_hz.values, "Hz", "attitude loop crossover achieved"),
+    }
+    data = {k: (("axis",), np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in per_axis.items()}
+    data["mode_frequency"] = (("mount", "mode"), freqs, {"units": "Hz", "long_name": "isolator rigid-body mode"})
+    data["mode_dofs"] = (("mount", "mode"), labels, {"units": "1", "long_name": "dominant DOFs of the mode (energy)"})
+    coords = {
+        "mount": ("mount", list(section.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
+        "mode": ("mode", np.arange(len(DOFS)), {"units": "1", "long_name": "rigid-body mode, ascending frequency"}),
+        "axis": ("axis", axes, {"units": "1", "long_name": "stabilised gimbal axis"}),
+    }
+    attrs = {"damping_N_s_m": section.middle_damping, "gimbal_payload_mass_kg": gimbal_payload(section).mass}
+    modes_and_loops = xr.Dataset(data, coords=coords, attrs=attrs)
+    return xr.merge([modes_and_loops, transmissibility.dataset(section)], combine_attrs="override")

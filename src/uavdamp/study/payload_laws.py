@@ -1,0 +1,100 @@
+"""Semi-active laws on the gimbal's six-axis isolator: the payload comparison's C(t) beside its constant C.
+
+Karnopp's on-off skyhook (`uavdamp.damping.laws.Skyhook`, the law the study runs on the paper's platform) decides
+each semi-active element's damping from that element's own velocities: v_rel its stroke rate (payload minus
+mount at the element, 3 axes) and v_abs = v_rel + the mount's velocity there, c_on when the damper's force
+-C v_rel opposes v_abs (v_abs . v_rel > 0), else c_off; decided at every sample of the run's grid, held over the
+step (`uavdamp.platform.six_axis_run.run`, exact for the held C). The body's motion then feeds the gimbal as in the
+constant runs (`uavdamp.study.payload_runs`): coordinates and rates from the run's states, accelerations their
+central differences.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from uavdamp.contract import MountMotion
+from uavdamp.damping.laws import Skyhook
+from uavdamp.platform.six_axis import SixAxisIsolator, strokes_matrix
+from uavdamp.platform.six_axis_run import run
+from uavdamp.study.payload_runs import BodyMotion, gimbal_series, metric_attrs, run_metrics, six_axis_isolator
+
+
+def skyhook_schedule(isolator: SixAxisIsolator, time: np.ndarray, mount_rates: np.ndarray, law: Skyhook) -> Callable:
+    """The callable schedule (t_k, outputs_k) -> C per semi-active element (N s m-1) of `six_axis_run.run`:
+    `law.decide(v_abs, v_rel)` per element, mount_rates (n, 6) the mount's rates at the samples as the run takes
+    them (the slope of the step that starts there)."""
+    n_el, t0, h = isolator.n_elements, float(time[0]), float(time[1] - time[0])
+    at_elements = strokes_matrix(isolator)  # (3 n_el, 6): a 6-DOF motion's translation at each element
+
+    def decide(t_k: float, outputs: np.ndarray) -> np.ndarray:
+        k = int(round((t_k - t0) / h))
+        v_rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)
+        v_abs = v_rel + (at_elements @ mount_rates[k]).reshape(n_el, 3)
+        return np.array([law.decide(v_abs[i], v_rel[i]) for i in isolator.semi_active])
+
+    return decide
+
+
+def skyhook_motion(
+    isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_on: float, c_off: float
+) -> tuple[BodyMotion, float]:
+    """(the payload's motion under on-off skyhook between c_on and c_off N s m-1, the share of element-steps
+    at c_on)."""
+    h = float(time[1] - time[0])
+    u = np.vstack([np.asarray(mount.translation, dtype=float), np.asarray(mount.rotation, dtype=float)])
+    slopes = np.diff(u, axis=1) / h
+    rates = np.hstack([slopes, slopes[:, -1:]]).T  # (n, 6), as `run` takes them
+    law = Skyhook(c_on, c_off, h)
+    ds = run(isolator, time, u[:3], u[3:], skyhook_schedule(isolator, time, rates, law))
+    coordinates = np.vstack([ds.payload_translation.values, ds.payload_rotation.values])
+    body_rates = np.vstack([ds.payload_velocity.values, ds.payload_angular_rate.values])
+    accelerations = np.gradient(body_rates, h, axis=1, edge_order=2)
+    peak = float(np.abs(ds.element_stroke.values).max())
+    on = float(np.mean(ds.damping.values[:, :-1] == c_on)) if c_on != c_off else 1.0
+    return BodyMotion(coordinates, body_rates, accelerations, peak), on
+
+
+def law_names(section) -> list[str]:
+    """The law runs of a section: skyhook_C for every damping candidate C above the least (c_on C, c_off the least):
+    the choice of c_on swept over the candidates; [] when the section compares no gimbal on a six-axis isolator."""
+    if "gimbal" not in section.payloads or "six_axis" not in section.mounts:
+        return []
+    c_off = min(section.damping)
+    return [f"skyhook_{c:g}" for c in sorted(section.damping) if c > c_off]
+
+
+def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
+    """Per law of `law_names`, the gimbal on the six-axis isolator under the gridded input: every metric of
+    `payload_runs.METRICS`, ``on_fraction`` and ``c_on`` (N s m-1), each (law,); {} without laws. `setup`: the
+    payload comparison's (section, gimbal, gains, lever, camera)."""
+    s = setup.section
+    names, c_off = law_names(s), min(s.damping)
+    rows = []
+    for name in names:
+        c_on = float(name.removeprefix("skyhook_"))
+        body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off)
+        errors = s.gimbal.sensor_errors
+        series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
+        rows.append(run_metrics(t, series, setup.camera, s.settle_s, s.duration_s) | {"on_fraction": on, "c_on": c_on})
+    return {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
+
+
+def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
+    """(data variables law_NAME (law), the law coordinate) of `law_values`' output for a dataset."""
+    if not values:
+        return {}, {}
+    data = {f"law_{k}": (("law",), v, metric_attrs(k)) for k, v in values.items() if k not in ("on_fraction", "c_on")}
+    data["law_on_fraction"] = (
+        ("law",),
+        values["on_fraction"],
+        {"units": "1", "long_name": "share of element-steps at c_on"},
+    )
+    data["law_c_on"] = (("law",), values["c_on"], {"units": "N s m-1", "long_name": "skyhook's on damping"})
+    text = (
+        "semi-active law on the six-axis isolator's elements, the gimbal on it: on-off skyhook between c_on and "
+        f"c_off {min(section.damping):g} N s m-1"
+    )
+    return data, {"law": ("law", law_names(section), {"units": "1", "long_name": text})}

@@ -1,0 +1,82 @@
+"""Semi-active laws on the six-axis isolator (`uavdamp.study.payload_laws`): the skyhook adapter against the
+constant-damping run it must reduce to, Karnopp's rule per element, and the isolator's closed forms it must beat
+where skyhook is known to (Karnopp et al. 1974: resonance damped as by c_on, high frequencies passed as by c_off).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_gimbal import _fit
+from test_payload import _section, _time
+
+from uavdamp.contract import MountMotion
+from uavdamp.damping.laws import Skyhook
+from uavdamp.platform.six_axis import strokes_matrix
+from uavdamp.study import payload_laws as laws
+from uavdamp.study import payload_runs as runs
+
+SECTION = _section()
+K, M = 4 * 500.0, 1.5  # N/m and kg: the four elements' vertical stiffness, the payload (tests/test_payload.py)
+
+
+def _vertical(f: float, amplitude: float, duration: float = 3.0):
+    t = _time(duration)
+    translation = np.zeros((3, t.size))
+    translation[2] = amplitude * np.sin(2 * np.pi * f * t)
+    return t, MountMotion(translation, np.zeros((3, t.size)))
+
+
+def _sdof(f: float, c_element: float) -> float:
+    """|(k + j w c) / (k - m w^2 + j w c)| of the vertical mode, four elements of damping c_element each."""
+    w, c = 2 * np.pi * f, 4 * c_element
+    return abs((K + 1j * w * c) / (K - M * w**2 + 1j * w * c))
+
+
+def test_skyhook_between_equal_dampings_is_the_constant_run():
+    """c_on = c_off = 10 N s/m: the scheduled run is the isolator's own constant-damping run (`isolated_motion`)
+    to rounding, rates included."""
+    t = _time(1.0)
+    u = np.zeros((6, t.size))
+    u[1], u[3] = 1e-3 * np.sin(2 * np.pi * 7 * t), 2e-3 * np.sin(2 * np.pi * 11 * t)
+    moved = MountMotion(u[:3], u[3:])
+    isolator = runs.six_axis_isolator(SECTION, 10.0)
+    body, on = laws.skyhook_motion(isolator, t, moved, 10.0, 10.0)
+    constant = runs.isolated_motion(isolator, t, moved)
+    np.testing.assert_allclose(body.coordinates, constant.coordinates, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(body.rates, constant.rates, rtol=0, atol=1e-10)
+    assert on == 1.0 and body.peak_stroke == pytest.approx(constant.peak_stroke, rel=1e-9)
+
+
+def test_each_element_follows_karnopps_rule_on_its_own_velocities():
+    """Element 0 moving with its stroke along the payload's velocity (v_abs . v_rel > 0): c_on; element 1 against
+    it: c_off; the others at rest: c_off (ties)."""
+    isolator = runs.six_axis_isolator(SECTION, 1.0)
+    n_el, t = isolator.n_elements, np.array([0.0, 1e-3])
+    mount_rates = np.zeros((2, 6))
+    mount_rates[0, 1] = 0.02  # the mount moves along y at 2 cm/s: at every element, (0, 0.02, 0)
+    outputs = np.zeros(6 + 6 * n_el)
+    rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)
+    rel[0] = (0.0, 0.01, 0.0)  # v_abs = (0, 0.03, 0): same sign as v_rel -> on
+    rel[1] = (0.0, -0.01, 0.0)  # v_abs = (0, 0.01, 0): opposite -> off
+    decide = laws.skyhook_schedule(isolator, t, mount_rates, Skyhook(100.0, 1.0, 1e-3))
+    assert list(decide(0.0, outputs)) == [100.0, 1.0, 1.0, 1.0]
+    assert strokes_matrix(isolator).shape == (3 * n_el, 6)
+
+
+def test_skyhook_damps_the_resonance_and_passes_high_frequencies_as_its_off_state():
+    """The vertical mode (sqrt(k / m) / 2 pi = 5.81 Hz) excited at resonance: skyhook (c_on 100, c_off 1 N s/m per
+    element) keeps the payload below the closed form of the constant c_off (whose resonance it damps); at 30 Hz it
+    passes less than the closed form of the constant c_on (whose damping force it mostly switches off)."""
+    f_n = np.sqrt(K / M) / (2 * np.pi)
+    isolator = runs.six_axis_isolator(SECTION, 1.0)
+    for f, worse_than in ((f_n, 1.0), (30.0, 100.0)):
+        t, moved = _vertical(f, 1e-4)
+        body, _ = laws.skyhook_motion(isolator, t, moved, 100.0, 1.0)
+        ratio = _fit(t, body.coordinates[2], f, 1.5) / 1e-4
+        assert ratio < 0.8 * _sdof(f, worse_than), (f, ratio, _sdof(f, worse_than))
+
+
+def test_the_law_runs_are_named_by_their_on_damping_above_the_least_candidate():
+    assert laws.law_names(SECTION) == [f"skyhook_{c:g}" for c in sorted(SECTION.damping)[1:]]
+    assert laws.law_names(_section(mounts=["rigid", "yz"])) == []
