@@ -280,7 +280,8 @@ def payload_table(ds: xr.Dataset) -> Table:
 
 
 def payload_findings(ds: xr.Dataset) -> list[str]:
-    """Per input, the payload and mount of least line of sight (at its best C) against the 175 µrad anchor."""
+    """Per input, the payload and mount of least line of sight (at its best constant C) against the 175 µrad
+    anchor, and the best skyhook run on the six-axis isolator against it (`_skyhook_finding`)."""
     out = []
     for i in ds.input.values:
         los = ds.los_rms.sel(input=i)
@@ -289,7 +290,10 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
         where = f"{ds.payload.values[p]} on the {ds.mount.values[m]} mount"
         damping = "" if ds.mount.values[m] == "rigid" else f" at C = {fmt(float(ds.damping.values[c]), 3)} N s/m"
         side = "within" if value <= ANCHOR_RAD else "above"
-        text = f"**{i}.** Least line of sight: {where}{damping}, {fmt(value * 1e6, 3)} µrad rms ({side} 175 µrad)"
+        text = (
+            f"**{i}.** Least line of sight at a constant C: {where}{damping}, {fmt(value * 1e6, 3)} µrad rms "
+            f"({side} 175 µrad)"
+        )
         if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
             text += "; this input does not rotate the mount, so a balanced camera sees none of it"
         out.append(text + "." + _skyhook_finding(ds, i))
@@ -305,9 +309,10 @@ def _skyhook_finding(ds: xr.Dataset, name) -> str:
     best = float(ds.los_rms.sel(input=name, payload="gimbal", mount="six_axis").min())
     value, c_on = float(law.values[k]), float(ds.law_c_on.sel(input=name).values[k])
     change = 100 * (value / best - 1)
+    sign = "+" if change > 0 else ""
     return (
         f" Skyhook on the six-axis isolator (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
-        f"{fmt(change, 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
+        f"{sign}{fmt(change, 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
     )
 
 
