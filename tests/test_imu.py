@@ -15,6 +15,7 @@ from uavdamp.platform.imu import (
     noise_bandwidth_hz,
     quantise,
     read,
+    read_scalar,
     sample_channel,
     tilt,
 )
@@ -143,3 +144,14 @@ def test_gyro_only_estimator_integrates():
 def test_bad_imu_parameters_name_the_key(kwargs, key):
     with pytest.raises(ConfigError, match=key):
         ImuParams(**kwargs)
+
+
+def test_the_scalar_reading_is_the_array_reading():
+    """`read_scalar`, the gimbal loop's per-sample path, gives `read`'s value to the bit: on random values, on exact
+    half steps (both round half to even) and beyond the full scale (clipped)."""
+    rng = np.random.default_rng(3)
+    step, full_scale, bias = 0.061e-3 * 9.80665, 16 * 9.80665, 0.013
+    values = np.concatenate([rng.normal(0, 5, 2000), (np.arange(-500, 500) + 0.5) * step - bias, [1e9, -1e9]])
+    for v in values:
+        assert read_scalar(v, bias, step, full_scale) == float(read(v, bias, step, full_scale))
+    assert read_scalar(0.3, bias, 0.0, full_scale) == 0.3 + bias

@@ -4,6 +4,7 @@ dataset's metadata, NaN pattern and repeatability."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 
@@ -22,6 +23,7 @@ from uavdamp.settings import ConfigError, parse
 from uavdamp.sources.stated import StatedSource
 from uavdamp.study import payload_runs
 from uavdamp.study.payload import (
+    PayloadInput,
     PayloadSection,
     compare_inputs,
     compare_payloads,
@@ -232,3 +234,19 @@ def test_the_input_is_resampled_band_limited_so_its_acceleration_is_the_motions(
     expected = -((2 * np.pi * f) ** 2) * a * np.sin(2 * np.pi * f * grid[1:-1])
     peak = (2 * np.pi * f) ** 2 * a
     assert np.max(np.abs(acc[inner] - expected[inner])) < 0.01 * peak
+
+
+def test_the_inputs_give_the_same_numbers_on_one_and_two_workers():
+    """payload.threads fans the inputs out over joblib workers (`uavdamp.parallel.run`): the dataset is identical
+    on 1 and 2, sensor noise included (each run draws from its own seeded Generator)."""
+    section = _section(
+        payloads=["gimbal"], mounts=["rigid", "six_axis"], duration_s=0.6, settle_s=0.2, damping_n_s_m=[1.0, 10.0]
+    )
+    t = _time(0.6)
+    found = [
+        PayloadInput(f"line{f:g}", "", t, MountMotion.planar(1e-4 * np.sin(2 * np.pi * f * t), 0 * t))
+        for f in (7.0, 13.0)
+    ]
+    one, two = (compare_inputs(found, dataclasses.replace(section, threads=n), PLATFORM, CAMERA) for n in (1, 2))
+    xr.testing.assert_identical(one, two)
+    assert one.sizes["input"] == 2 and one.sizes["law"] == 1

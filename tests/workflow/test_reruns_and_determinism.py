@@ -152,10 +152,12 @@ def test_the_same_config_reruns_nothing(quick_run):
     assert planned_rules(quick_run, quick_run_config()) == set()
 
 
-def test_the_anfis_threads_rerun_nothing(quick_run):
-    """anfis.threads is the job's threads, not an option: the results do not depend on it."""
+@pytest.mark.parametrize("section", ["anfis", "payload"])
+def test_the_threads_rerun_nothing(quick_run, section):
+    """anfis.threads and payload.threads are the jobs' threads, not options: the results do not depend on them
+    (tests/test_payload.py checks the payload's numbers on 1 and 2 workers)."""
     config = quick_run_config()
-    config["anfis"]["threads"] = 1
+    config[section]["threads"] = 1 if config[section]["threads"] != 1 else 2
     assert planned_rules(quick_run, config) == set()
 
 

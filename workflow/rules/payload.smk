@@ -1,7 +1,9 @@
 # Which payload and isolator keep the camera sharp: the paper's head, the same head balanced and a gyro-stabilised
 # gimbal, each on a rigid, the paper's Y-Z and a six-axis isolator, at constant damping candidates, on the study's
 # cases and the stated sources payload.sources names (src/uavdamp/study/payload.py).
-PAYLOAD = canonical(config["payload"])
+PAYLOAD = canonical(
+    {k: v for k, v in config["payload"].items() if k != "threads"}
+)  # its threads change no number: not a parameter
 PAYLOAD_SOURCES = canonical(
     {n: config["sources"][n] for n in config["payload"]["sources"]}
 )
@@ -43,6 +45,7 @@ rule payload:
         f"{OUT}/benchmarks/payload.tsv"
     conda:
         ENV
+    threads: config["payload"]["threads"]
     params:
         digest=DIGESTS["payload"],
         expects=expects({f"{OUT}/excitation/cases.nc": "excitation"}),

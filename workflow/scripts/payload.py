@@ -12,7 +12,7 @@ from uavdamp.study import payload, payload_design
 workflow.start_log(snakemake.log[0])
 job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 p = snakemake.params
-section = parse(payload.PayloadSection, p.payload, "payload")
+section = parse(payload.PayloadSection, {**p.payload, "threads": snakemake.threads}, "payload")
 platform = parse(PlatformParams, p.platform, "platform")
 camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}

@@ -44,7 +44,7 @@ Choices worth knowing (each is a guard):
   scipy's OpenBLAS pools contend while the normal equations are formed and solved. Without that limit,
   default threads were 1.2-26x slower than one thread for 27-64 rules on 1000-10000 rows
   (benchmarks/bench_anfis.py on 2 shared cores); with it, the two are equal within timing noise.
-  Parallelism is across fits instead (``uavdamp.anfis.model_selection.run``).
+  Parallelism is across fits instead (``uavdamp.parallel.run``).
 
 No file I/O here: ``to_dataset`` / ``from_dataset`` convert to and from an ``xarray.Dataset``.
 """

@@ -5,7 +5,7 @@ A candidate is a small dict of ANFIS structure parameters, e.g. ``{"init": "grid
 parameter comes from the estimator passed in. The caller passes the training rows only: whatever
 is held out for checking never reaches this module.
 
-Every (candidate, fold) fit is independent: ``run`` spreads them (and any other task of the caller's,
+Every (candidate, fold) fit is independent: `uavdamp.parallel.run` spreads them (and any other task of the caller's,
 such as the baselines) over joblib's loky workers with one BLAS/OpenMP thread each, and in-process
 with one BLAS thread when ``n_jobs`` is 1, so the numbers do not depend on the thread count.
 
@@ -21,11 +21,8 @@ import time
 
 import numpy as np
 import xarray as xr
-from joblib import Parallel, delayed, parallel_config
-from joblib.externals.loky import get_reusable_executor
 from sklearn.base import BaseEstimator, clone
 from sklearn.model_selection import KFold
-from threadpoolctl import threadpool_limits
 
 RULES = ("one_se", "best")
 
@@ -34,26 +31,6 @@ def label(candidate: dict) -> str:
     """Short text of a candidate, e.g. 'grid n_mfs=3'."""
     rest = " ".join(f"{k}={v}" for k, v in candidate.items() if k != "init")
     return f"{candidate['init']} {rest}".strip()
-
-
-def run(tasks: list, n_jobs: int, costs=None) -> list:
-    """[function(*args) for (function, args) in tasks], in order, on n_jobs loky workers (one thread each).
-
-    ``costs`` (one per task, any unit) only orders the work, costliest first (so the longest tasks do not end the
-    run on one worker): the results come back in the tasks' order whatever the order of work or n_jobs.
-    """
-    order = np.argsort(-np.asarray(costs, float), kind="stable") if costs is not None else np.arange(len(tasks))
-    if n_jobs == 1 or len(tasks) <= 1:
-        with threadpool_limits(limits=1):
-            done = [tasks[k][0](*tasks[k][1]) for k in order]
-    else:
-        with parallel_config(backend="loky", inner_max_num_threads=1):
-            done = Parallel(n_jobs=n_jobs)(delayed(tasks[k][0])(*tasks[k][1]) for k in order)
-        get_reusable_executor().shutdown(wait=True)  # no workers left behind by the job
-    out = [None] * len(tasks)
-    for k, result in zip(order, done, strict=True):
-        out[k] = result
-    return out
 
 
 def cost(candidate: dict, n_inputs: int) -> float:

@@ -27,6 +27,7 @@ import numpy as np
 import xarray as xr
 from threadpoolctl import threadpool_limits
 
+from uavdamp import parallel
 from uavdamp.anfis import baselines, model_selection
 from uavdamp.anfis.damping import INPUTS, DampingModel, Regret, regret
 from uavdamp.anfis.params import AnfisOptions
@@ -109,7 +110,7 @@ def _fit_models(X, y, is_train, options: AnfisOptions, grid, n_jobs: int):
     ]
     costs = [model_selection.cost(c, X.shape[1]) for c in candidates for _ in folds]
     costs += [baselines.COSTS[n] for n in names]
-    out = model_selection.run(tasks, n_jobs, costs)
+    out = parallel.run(tasks, n_jobs, costs)
     cv_out, fitted = out[: -len(names) or None], out[len(out) - len(names) :]
     scores = [
         (np.sqrt(np.mean((p - target[t]) ** 2)), r, s)

@@ -27,7 +27,7 @@ from uavdamp.platform.gimbal import (
     design,
     imbalance_torque,
 )
-from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, sample_channel
+from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, read_scalar, sample_channel
 from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
 
 
@@ -144,11 +144,11 @@ def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarra
     for k in range(k_count):
         held[k] = applied
         state = base_loop[k] + z
-        gyro = read(state @ c_gyro, imu.gyro_bias[i], imu.gyro_step, imu.gyro_range)
+        gyro = read_scalar(state @ c_gyro, imu.gyro_bias[i], imu.gyro_step, imu.gyro_range)
         if axis == "yaw":
             tilt = 0.0
         else:
-            f_lat = read(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
+            f_lat = read_scalar(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
             tilt = math.atan2(f_lat, f_z[k]) if axis == "roll" else math.atan2(-f_lat, f_z[k])
         estimate = g.estimator.update(estimate, float(gyro), tilt)
         error = -g.ka * estimate - float(gyro)

@@ -115,6 +115,15 @@ def read(filtered: np.ndarray, bias: np.ndarray, step: float, full_scale: float)
     return quantise(np.asarray(filtered) + bias, step, full_scale)
 
 
+def read_scalar(filtered: float, bias: float, step: float, full_scale: float) -> float:
+    """`read` of one sample in Python floats (the gimbal loop's per-sample path; numpy's scalar calls cost ten
+    times more): the same value, round half to even as numpy's."""
+    x = float(filtered) + float(bias)
+    if step == 0:
+        return x
+    return min(max(step * round(x / step), -full_scale), full_scale)
+
+
 def sample_channel(
     time: np.ndarray, x: np.ndarray, p: ImuParams, density: float, rng: np.random.Generator
 ) -> np.ndarray:

@@ -41,6 +41,7 @@ import numpy as np
 import xarray as xr
 from scipy import signal
 
+from uavdamp import parallel
 from uavdamp.camera.optics import CameraModel
 from uavdamp.contract import MountMotion, is_multiple
 from uavdamp.platform import PlatformParams
@@ -137,6 +138,7 @@ class PayloadSection:
     yz_stiffness: float = setting("yz_stiffness_n_m", default=1000.0)  # N m-1, K of the Y-Z isolator
     damping: tuple[float, ...] = setting("damping_n_s_m", default=(1.0, 3.0, 10.0, 30.0, 100.0))  # N s m-1
     seed: int = setting(default=0)  # the gimbal IMU's noise
+    threads: int = setting(default=1)  # joblib workers over the inputs (the rule's threads; not in the results)
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
@@ -323,14 +325,13 @@ def compare_inputs(
     found: list[PayloadInput], section: PayloadSection, platform: PlatformParams, camera: CameraModel
 ) -> xr.Dataset:
     """`compare_payloads` of every input, stacked over ``input`` (with ``input_description``); the still mount's
-    ``floor_los_rms`` once (it does not depend on the input)."""
+    ``floor_los_rms`` once (it does not depend on the input). The inputs run on ``threads`` joblib workers
+    (`uavdamp.parallel.run`): the same numbers on any count."""
     require(len(found) > 0, "payload.sources", "no input: the study has no case and payload.sources is empty")
-    setup = _setup(section, platform, camera)
-    floor = _floor(setup)
+    floor = _floor(_setup(section, platform, camera))
     gridded = [_input(i.time, i.mount, section) for i in found]  # each input resampled once
-    per_input = [
-        _dataset(setup, _values(setup, t, moved), floor, laws.law_values(setup, t, moved)) for t, moved in gridded
-    ]
+    tasks = [(_one_input, (section, platform, camera, t, moved, floor)) for t, moved in gridded]
+    per_input = parallel.run(tasks, section.threads)
     names = [i.name for i in found]
     ds = xr.concat([d.drop_vars("floor_los_rms") for d in per_input], dim="input", combine_attrs="override")
     ds = ds.assign_coords(input=("input", names, {"units": "1", "long_name": "input (study case or stated source)"}))
@@ -339,6 +340,12 @@ def compare_inputs(
     ds["input_rotation_rms"] = ("input", rotation, {"units": "rad", "long_name": "the mount's rotation rms (3 axes)"})
     ds["floor_los_rms"] = per_input[0].floor_los_rms
     return ds
+
+
+def _one_input(section, platform, camera, t: np.ndarray, moved: MountMotion, floor: np.ndarray) -> xr.Dataset:
+    """One gridded input's comparison (a task of `compare_inputs`: its own setup, so that it runs in a worker)."""
+    setup = _setup(section, platform, camera)
+    return _dataset(setup, _values(setup, t, moved), floor, laws.law_values(setup, t, moved))
 
 
 def _best_damping(section: PayloadSection, los_rms: np.ndarray) -> np.ndarray:
