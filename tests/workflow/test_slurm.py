@@ -19,7 +19,7 @@ from conftest import ROOT, copy_workflow, load_config, snakemake
 
 from uavdamp import io
 
-pytestmark = pytest.mark.slurm
+pytestmark = [pytest.mark.slurm, pytest.mark.slow]  # a SLURM cluster and Snakemake: out of the inner loop too
 
 TARGET = "reports-quick/reference_table/table.nc"
 PROFILE = ROOT / "profiles" / "slurm"
