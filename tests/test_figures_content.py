@@ -19,14 +19,20 @@ from uavdamp.plots.study import sharp_fraction_figure
 from uavdamp.reference_table import criteria as criterion
 
 
-def test_reference_table_figure_shows_the_table():
-    """The 7/3 fixture (tests/test_mutants_criterion.py): heatmaps hold damping_opt and the flat band per K; the
-    right panel plots the spread (1, 8) and the scheduling gain (1, 7/3) against K."""
+def _seven_thirds_table():
+    """The 7/3 fixture's reference table (displacement, transient): C grid 1, 2, 4, 8 N s/m, K = 10 and 20 N/m; the
+    optimum at C = 4 for K = 10, at 1 (row f_y = 1) or 8 (other rows) for K = 20."""
     values = np.ones((3, 3, 2, 4))
     values[..., 0, 2] = 0.5
     values[0, :, 1, 0] = 0.2
     values[1:, :, 1, 3] = 0.2
-    table = criterion.select_table(criterion.reference_table(synthetic_grid(values)), "displacement", "transient")
+    return criterion.select_table(criterion.reference_table(synthetic_grid(values)), "displacement", "transient")
+
+
+def test_reference_table_figure_shows_the_table():
+    """The 7/3 fixture (`_seven_thirds_table`): heatmaps hold damping_opt and the flat band per K; the
+    right panel plots the spread (1, 8) and the scheduling gain (1, 7/3) against K."""
+    table = _seven_thirds_table()
     fig = reference_table_figure(table)
     try:
         images = [ax.images[0] for ax in fig.axes if ax.images]
@@ -56,11 +62,7 @@ def test_reference_table_figure_hatches_the_optima_on_a_grid_edge():
     """The 7/3 fixture without damper bounds: at K = 20 N/m the optimum is the grid's lowest C (1) in the f_y = 1
     row (flag 1) and its highest (8) in the other rows (flag 2); at K = 10 N/m it is inside (C = 4). Each flagged
     cell of the optimal-C heatmap is hatched, one hatch per flag, and a legend names the flags found."""
-    values = np.ones((3, 3, 2, 4))
-    values[..., 0, 2] = 0.5
-    values[0, :, 1, 0] = 0.2
-    values[1:, :, 1, 3] = 0.2
-    table = criterion.select_table(criterion.reference_table(synthetic_grid(values)), "displacement", "transient")
+    table = _seven_thirds_table()
     fig = reference_table_figure(table)
     try:
         fig.draw_without_rendering()
