@@ -14,8 +14,9 @@ import pytest
 import xarray as xr
 from conftest import apt_install
 
+from uavdamp.results import page as page_blocks
+from uavdamp.results import payload_page, summary
 from uavdamp.results import render as summary_render
-from uavdamp.results import summary
 from uavdamp.study import comparison as study
 from uavdamp.study.comparison import strategies
 
@@ -116,10 +117,10 @@ def rows_of(markdown: str, title: str) -> list[list[str]]:
 
 
 def test_numbers_have_their_digits_and_sign():
-    assert summary.fmt(1728.3446352924368) == "1728"
-    assert summary.fmt(0.0009024738307372715) == "0.0009025"
-    assert summary.fmt(10.0) == "10" and summary.fmt(np.nan) == "-"
-    assert summary.signed(-0.0009024738307372715) == "-0.0009" and summary.signed(0.0499) == "+0.05"
+    assert page_blocks.fmt(1728.3446352924368) == "1728"
+    assert page_blocks.fmt(0.0009024738307372715) == "0.0009025"
+    assert page_blocks.fmt(10.0) == "10" and page_blocks.fmt(np.nan) == "-"
+    assert page_blocks.signed(-0.0009024738307372715) == "-0.0009" and page_blocks.signed(0.0499) == "+0.05"
 
 
 def test_the_findings_are_sentences_of_the_data(page):
@@ -303,13 +304,13 @@ def test_the_payload_table_and_findings_are_its_numbers():
             "damping": [3.0, 30.0],
         },
     )
-    frame = summary.payload_table(ds).frame
+    frame = payload_page.payload_table(ds).frame
     gimbal = frame[(frame.input == "heli") & (frame.payload == "gimbal")].iloc[0]
     assert gimbal["rigid (µrad)"] == "3000"
     assert gimbal["yz (µrad, at C N s/m)"] == "800 (30)" and gimbal["six_axis (µrad, at C N s/m)"] == "100 (3)"
     head = frame[(frame.input == "heli") & (frame.payload == "paper_head")].iloc[0]
     assert head["six_axis (µrad, at C N s/m)"] == "-"
-    first, second = summary.payload_findings(ds)
+    first, second = payload_page.payload_findings(ds)
     assert "gimbal on the six_axis mount at C = 3 N s/m, 100 µrad rms (within 175 µrad)" in first
     assert "paper_head on the rigid mount" in second and "does not rotate the mount" in second
 
@@ -328,11 +329,11 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
         },
         coords={"input": ["heli"], "payload": ["gimbal"], "mount": ["six_axis"], "damping": [3.0, 30.0]},
     )
-    (finding,) = summary.payload_findings(ds)
+    (finding,) = payload_page.payload_findings(ds)
     assert (
         "Skyhook on the six-axis isolator (gimbal): 75 µrad at c_on = 30 N s/m, -25 % against its best constant C"
         in finding
     )
     assert "(100 µrad)" in finding
     worse = ds.assign(law_los_rms=(("input", "law"), [[120e-6, 130e-6]]))
-    assert "120 µrad at c_on = 30 N s/m, +20 % against" in summary.payload_findings(worse)[0]
+    assert "120 µrad at c_on = 30 N s/m, +20 % against" in payload_page.payload_findings(worse)[0]

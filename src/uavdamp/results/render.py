@@ -1,4 +1,4 @@
-"""The results page (`uavdamp.results.summary.Page`) as Markdown and as a standalone, styled HTML page.
+"""The results page (`uavdamp.results.page.Page`) as Markdown and as a standalone, styled HTML page.
 
 `to_markdown(page)` links the figures relative to the page; `to_html(page, images)` embeds them (`images`: role
 path -> PNG bytes, as data URIs) so the one file is the whole page, in a browser or in Snakemake's report.
@@ -10,7 +10,7 @@ import base64
 import html
 import re
 
-from uavdamp.results.summary import Page, Table
+from uavdamp.results.page import Page, Table
 
 CSS = """
 body { font-family: system-ui, -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; max-width: 1100px;

@@ -23,68 +23,18 @@ from __future__ import annotations
 
 import hashlib
 import itertools
-from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
+from uavdamp.results.page import MISSING, Figure, Page, Table, fmt, signed
+from uavdamp.results.payload_page import payload_findings, payload_table
 from uavdamp.study import strategies
 
 PAPER_OMEGA_RAD_S = {"y": 44.04, "z": 50.58}  # Marichal et al. 2014, Fig. 3: the fuselage's dominant lines
-DIGITS = 4  # significant digits of every value shown
 UNIT_TEXT = {"N m-1": "N/m", "N s m-1": "N s/m", "rad s-1": "rad/s", "m s-1": "m/s", "s-1": "1/s"}
 DIM_LABELS = {"stiffness": "K"}  # a dimension's column label, when not its name
-MISSING = "-"
-
-
-@dataclass(frozen=True)
-class Table:
-    """One table of the page: flat, every column labelled, cells already formatted as text."""
-
-    title: str
-    frame: pd.DataFrame
-    note: str = ""
-    labels: int = 1  # leading columns that label the rows (left-aligned)
-
-
-@dataclass(frozen=True)
-class Figure:
-    """A figure of the run: its file (relative to the page) and a one-sentence caption."""
-
-    path: str
-    title: str
-    caption: str
-
-
-@dataclass
-class Page:
-    """The results page: provenance, findings, descriptions, figures and tables."""
-
-    provenance: dict
-    findings: list[str] = field(default_factory=list)
-    descriptions: list[tuple[str, dict[str, str]]] = field(default_factory=list)
-    figures: list[Figure] = field(default_factory=list)
-    tables: list[Table] = field(default_factory=list)
-
-
-def fmt(value, digits: int = DIGITS) -> str:
-    """`value` to `digits` significant digits, positional (no exponent between 1e-4 and 1e7); NaN, None: '-'."""
-    if value is None or isinstance(value, str):
-        return MISSING if value is None else value
-    value = float(value)
-    if not np.isfinite(value):
-        return MISSING
-    if value == 0:
-        return "0"
-    if 1e-4 <= abs(value) < 1e7:
-        return np.format_float_positional(value, precision=digits, unique=False, fractional=False, trim="-")
-    return f"{value:.{digits - 1}e}"
-
-
-def signed(value: float, digits: int = 2) -> str:
-    """A difference with its sign ('+0.012', '-3.1'), `digits` significant digits."""
-    return MISSING if not np.isfinite(value) else ("+" if value >= 0 else "-") + fmt(abs(value), digits)
 
 
 def unit_text(units: str) -> str:
@@ -253,67 +203,6 @@ def benchmark_table(criteria: xr.Dataset) -> Table:
     n = int((criteria.set == "evaluation").sum()) if "set" in criteria.coords else criteria.sizes["scenario"]
     note = f"Mean / worst J over {n} evaluation scenarios (J = 1: the rigid mount; lower is better); '-': not run."
     return Table("Controller benchmark", pd.DataFrame(records), note, len(rows))
-
-
-ANCHOR_RAD = 175e-6  # ±0.01 deg: the angular vibration range gimbal makers quote
-
-
-def payload_table(ds: xr.Dataset) -> Table:
-    """Line-of-sight rms (µrad) per input and payload: rigid, and each isolator at its best constant C."""
-    records = []
-    for i, p in itertools.product(ds.input.values, ds.payload.values):
-        record = {"input": str(i), "payload": str(p)}
-        for m in ds.mount.values:
-            los, best = ds.los_rms.sel(input=i, payload=p, mount=m), ds.best_damping.sel(input=i, payload=p, mount=m)
-            if m == "rigid":
-                record["rigid (µrad)"] = fmt(float(los.max()) * 1e6, 3)
-            else:
-                c = float(best)
-                value = MISSING if not np.isfinite(c) else f"{fmt(float(los.sel(damping=c)) * 1e6, 3)} ({fmt(c, 3)})"
-                record[f"{m} (µrad, at C N s/m)"] = value
-        records.append(record)
-    note = (
-        "Line-of-sight rms over the settled window; each isolator at its best constant C; lower is better; '-': not "
-        f"modelled. Anchor: ±0.01° = {ANCHOR_RAD * 1e6:g} µrad."
-    )
-    return Table("Payloads and mounts", pd.DataFrame(records), note, 2)
-
-
-def payload_findings(ds: xr.Dataset) -> list[str]:
-    """Per input, the payload and mount of least line of sight (at its best constant C) against the 175 µrad
-    anchor, and the best skyhook run on the six-axis isolator against it (`_skyhook_finding`)."""
-    out = []
-    for i in ds.input.values:
-        los = ds.los_rms.sel(input=i)
-        p, m, c = np.unravel_index(int(np.nanargmin(los.values)), los.shape)
-        value = float(los.values[p, m, c])
-        where = f"{ds.payload.values[p]} on the {ds.mount.values[m]} mount"
-        damping = "" if ds.mount.values[m] == "rigid" else f" at C = {fmt(float(ds.damping.values[c]), 3)} N s/m"
-        side = "within" if value <= ANCHOR_RAD else "above"
-        text = (
-            f"**{i}.** Least line of sight at a constant C: {where}{damping}, {fmt(value * 1e6, 3)} µrad rms "
-            f"({side} 175 µrad)"
-        )
-        if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
-            text += "; this input does not rotate the mount, so a balanced camera sees none of it"
-        out.append(text + "." + _skyhook_finding(ds, i))
-    return out
-
-
-def _skyhook_finding(ds: xr.Dataset, name) -> str:
-    """The best skyhook run on the six-axis isolator against the gimbal's best constant C there ('' without)."""
-    if "law_los_rms" not in ds:
-        return ""
-    law = ds.law_los_rms.sel(input=name)
-    k = int(np.nanargmin(law.values))
-    best = float(ds.los_rms.sel(input=name, payload="gimbal", mount="six_axis").min())
-    value, c_on = float(law.values[k]), float(ds.law_c_on.sel(input=name).values[k])
-    change = 100 * (value / best - 1)
-    sign = "+" if change > 0 else ""
-    return (
-        f" Skyhook on the six-axis isolator (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
-        f"{sign}{fmt(change, 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
-    )
 
 
 def descriptions(comparison: xr.Dataset, cases: xr.Dataset | None = None) -> list[tuple[str, dict[str, str]]]:

@@ -1,0 +1,70 @@
+"""The payload stage on the results page: its table (each mount at its best constant C) and its findings (the
+least line of sight per input against the gimbal makers' 175 µrad, and the best skyhook run)."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from uavdamp.results.page import MISSING, Table, fmt, signed
+
+ANCHOR_RAD = 175e-6  # ±0.01 deg: the angular vibration range gimbal makers quote
+
+
+def payload_table(ds: xr.Dataset) -> Table:
+    """Line-of-sight rms (µrad) per input and payload: rigid, and each isolator at its best constant C."""
+    records = []
+    for i, p in itertools.product(ds.input.values, ds.payload.values):
+        record = {"input": str(i), "payload": str(p)}
+        for m in ds.mount.values:
+            los, best = ds.los_rms.sel(input=i, payload=p, mount=m), ds.best_damping.sel(input=i, payload=p, mount=m)
+            if m == "rigid":
+                record["rigid (µrad)"] = fmt(float(los.max()) * 1e6, 3)
+            else:
+                c = float(best)
+                value = MISSING if not np.isfinite(c) else f"{fmt(float(los.sel(damping=c)) * 1e6, 3)} ({fmt(c, 3)})"
+                record[f"{m} (µrad, at C N s/m)"] = value
+        records.append(record)
+    note = (
+        "Line-of-sight rms over the settled window; each isolator at its best constant C; lower is better; '-': not "
+        f"modelled. Anchor: ±0.01° = {ANCHOR_RAD * 1e6:g} µrad."
+    )
+    return Table("Payloads and mounts", pd.DataFrame(records), note, 2)
+
+
+def payload_findings(ds: xr.Dataset) -> list[str]:
+    """Per input, the payload and mount of least line of sight (at its best constant C) against the 175 µrad
+    anchor, and the best skyhook run on the six-axis isolator against it (`_skyhook_finding`)."""
+    out = []
+    for i in ds.input.values:
+        los = ds.los_rms.sel(input=i)
+        p, m, c = np.unravel_index(int(np.nanargmin(los.values)), los.shape)
+        value = float(los.values[p, m, c])
+        where = f"{ds.payload.values[p]} on the {ds.mount.values[m]} mount"
+        damping = "" if ds.mount.values[m] == "rigid" else f" at C = {fmt(float(ds.damping.values[c]), 3)} N s/m"
+        side = "within" if value <= ANCHOR_RAD else "above"
+        text = (
+            f"**{i}.** Least line of sight at a constant C: {where}{damping}, {fmt(value * 1e6, 3)} µrad rms "
+            f"({side} 175 µrad)"
+        )
+        if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
+            text += "; this input does not rotate the mount, so a balanced camera sees none of it"
+        out.append(text + "." + _skyhook_finding(ds, i))
+    return out
+
+
+def _skyhook_finding(ds: xr.Dataset, name) -> str:
+    """The best skyhook run on the six-axis isolator against the gimbal's best constant C there ('' without)."""
+    if "law_los_rms" not in ds:
+        return ""
+    law = ds.law_los_rms.sel(input=name)
+    k = int(np.nanargmin(law.values))
+    best = float(ds.los_rms.sel(input=name, payload="gimbal", mount="six_axis").min())
+    value, c_on = float(law.values[k]), float(ds.law_c_on.sel(input=name).values[k])
+    return (
+        f" Skyhook on the six-axis isolator (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
+        f"{signed(100 * (value / best - 1), 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
+    )
