@@ -284,7 +284,7 @@ def grid_ratio(step: float, finest: float, span_s: float) -> Fraction:
     """up / down (a Fraction) that brings a case sampled every `step` s onto the `finest` step: the simplest ratio
     (denominator up to 2^16) whose step mismatch, gathered over `span_s`, stays below DRIFT_NYQUIST_PERIODS of the
     case's Nyquist period 2 step. ValueError when none does (a rate ratio too irrational for 2^16)."""
-    exact, allowed = step / finest, DRIFT_NYQUIST_PERIODS * 2 * step / max(span_s, step)
+    exact, allowed = step / finest, DRIFT_NYQUIST_PERIODS * 2 * step  # s: the timing error the record may gather
     for bits in range(6, 17):
         ratio = Fraction(exact).limit_denominator(2**bits)
         if abs(step / float(ratio) - finest) * span_s / finest <= allowed:
