@@ -98,7 +98,7 @@ def main() -> None:
         ds = payload.compare_inputs(found, section, platform, camera)
         took = time.perf_counter() - start
         for i in ds.input.values:
-            los = ds.los_rms.sel(input=i, payload="gimbal") * URAD
+            los = ds.los_std.sel(input=i, payload="gimbal") * URAD
             cells = [f"{float(los.sel(mount='rigid').isel(damping=0)):.0f}"] if "rigid" in base.mounts else []
             for m in mounts:
                 best = float(ds.best_damping.sel(input=i, payload="gimbal", mount=m))

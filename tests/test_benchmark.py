@@ -121,7 +121,7 @@ def test_quick_benchmark(quick_run):
     assert ds.J.dims == ("scenario", "controller", "stiffness", "criterion", "damper")
     np.testing.assert_allclose(ds.J.sel(controller="rigid"), 1.0)  # the reference of every criterion
     j = ds.J.sel(criterion="displacement_std", damper="ideal")
-    # the clairvoyant explores the tuned passive C: never worse on its own criterion (camera_std = this J x rigid)
+    # the clairvoyant explores the tuned passive C: never worse on its own criterion (displacement_std = this J x rigid)
     assert np.all(j.sel(controller="clairvoyant") <= j.sel(controller="passive_tuned") * (1 + 1e-9))
     assert np.all(ds.damping_changes_per_s.sel(controller="passive_tuned") == 0)
     assert np.all(np.isnan(ds.peak_damper_force.sel(controller="rigid")))

@@ -434,7 +434,7 @@ def test_every_table_variable_carries_its_dims_units_and_long_name():
     assert "damping" not in table.coords
     assert criterion.CRITERION_ATTRS == {
         "units": "m",
-        "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) over the window",
+        "long_name": "camera displacement sqrt(var y + var z) over the window (displacement_std)",
     }
 
 

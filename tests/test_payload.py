@@ -69,7 +69,7 @@ def test_gimbal_on_a_rotating_rigid_mount_follows_its_loop_closed_form(axis, row
     ds = compare_payloads(t, MountMotion(np.zeros((3, t.size)), rotation), section, PLATFORM, CAMERA)
     p = gimbal_params(section)
     expected = abs(base_to_los(p, design(p)[axis], f)[0]) * amplitude / math.sqrt(2)
-    assert float(ds.los_rms.sel(payload="gimbal", mount="rigid", damping=1.0)) == pytest.approx(expected, rel=0.02)
+    assert float(ds.los_std.sel(payload="gimbal", mount="rigid", damping=1.0)) == pytest.approx(expected, rel=0.02)
 
 
 def test_a_sideways_mount_moves_the_unbalanced_head_and_not_the_balanced_gimbal():
@@ -82,7 +82,7 @@ def test_a_sideways_mount_moves_the_unbalanced_head_and_not_the_balanced_gimbal(
     )
     t = _time(1.0)
     ds = compare_payloads(t, MountMotion.planar(1e-3 * np.sin(2 * np.pi * 7.0 * t), 0 * t), section, PLATFORM, CAMERA)
-    los = ds.los_rms.sel(mount="rigid", damping=1.0)
+    los = ds.los_std.sel(mount="rigid", damping=1.0)
     assert float(los.sel(payload="gimbal")) < 1e-9
     assert float(los.sel(payload="balanced_head")) < 1e-9
     assert float(los.sel(payload="paper_head")) > 1e-3
@@ -168,7 +168,7 @@ def test_the_dataset_has_metadata_nan_where_not_modelled_and_repeats():
     _assert_metadata(first)
     xr.testing.assert_identical(first, second)
     head = first.payload.isin(["paper_head", "balanced_head"])
-    for name in ("los_rms", "los_roll_rms", "los_peak_to_peak", "jitter_within_exposure", "drift_frame_to_frame",
+    for name in ("los_std", "los_roll_rms", "los_peak_to_peak", "jitter_within_exposure", "drift_frame_to_frame",
                  "mtf_nyquist", "skew_px", "blur_p95"):  # fmt: skip
         v = first[name]
         expected = head & (first.mount == "six_axis")
@@ -183,8 +183,8 @@ def test_the_dataset_has_metadata_nan_where_not_modelled_and_repeats():
     best = first.best_damping
     np.testing.assert_array_equal(np.isnan(best.values), no_stroke.broadcast_like(best).values)
     assert set(best.values[np.isfinite(best.values)]) <= {3.0, 30.0}
-    assert float(first.floor_los_rms.sel(payload="gimbal")) > 0
-    np.testing.assert_array_equal(first.floor_los_rms.sel(payload=["paper_head", "balanced_head"]).values, 0.0)
+    assert float(first.floor_los_std.sel(payload="gimbal")) > 0
+    np.testing.assert_array_equal(first.floor_los_std.sel(payload=["paper_head", "balanced_head"]).values, 0.0)
 
 
 def test_inputs_from_cases_and_stated_sources_stack_over_input():
@@ -206,7 +206,7 @@ def test_inputs_from_cases_and_stated_sources_stack_over_input():
     ds = compare_inputs(inputs(cases, sources, section), section, PLATFORM, CAMERA)
     assert list(ds.input.values) == ["case1", "tones"]
     assert list(ds.input_description.values) == ["still", "two"]
-    assert ds.floor_los_rms.dims == ("payload",)
+    assert ds.floor_los_std.dims == ("payload",)
     drift = ds.drift_frame_to_frame.sel(payload="gimbal", mount="rigid", damping=3.0)
     assert float(drift.sel(input="tones")) > 3 * float(drift.sel(input="case1"))  # 0.1 px image sines on 0.03 px
     _assert_metadata(ds)

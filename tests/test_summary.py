@@ -273,7 +273,7 @@ def check_run_page(reports) -> None:
     landing = (reports / "report_landing.rst").read_text()
     assert landing.count("- **") == ds.sizes["case"] * ds.sizes["stiffness"] + payload.sizes["input"]
     for i in payload.input.values:  # each input's least line of sight, as the page states it (3 digits)
-        least = float(payload.los_rms.sel(input=i).min()) * 1e6
+        least = float(payload.los_std.sel(input=i).min()) * 1e6
         stated = re.search(rf"\*\*{i}\.\*\* Least line of sight at a constant C: .*?, ([0-9.]+) µrad rms", landing)
         assert stated and float(stated.group(1)) == pytest.approx(least, rel=5e-3, abs=0.5), (i, least)
 
@@ -293,7 +293,7 @@ def test_the_payload_table_and_findings_are_its_numbers():
     best = np.array([[[np.nan, 3.0, np.nan], [np.nan, 30.0, 3.0]]] * 2)
     ds = xr.Dataset(
         {
-            "los_rms": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
+            "los_std": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
             "best_damping": (("input", "payload", "mount"), best, {"units": "N s m-1"}),
             "input_rotation_rms": (("input",), [1e-3, 0.0], {"units": "rad"}),
         },
@@ -323,8 +323,8 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
     los[0, 0, 0] = [1e-4, 2e-3]
     ds = xr.Dataset(
         {
-            "los_rms": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
-            "law_los_rms": (("input", "law"), [[75e-6, 90e-6]], {"units": "rad"}),
+            "los_std": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
+            "law_los_std": (("input", "law"), [[75e-6, 90e-6]], {"units": "rad"}),
             "law_c_on": (("input", "law"), [[30.0, 100.0]], {"units": "N s m-1"}),
         },
         coords={"input": ["heli"], "payload": ["gimbal"], "mount": ["six_axis"], "damping": [3.0, 30.0]},
@@ -335,5 +335,5 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
         in finding
     )
     assert "(100 µrad)" in finding
-    worse = ds.assign(law_los_rms=(("input", "law"), [[120e-6, 130e-6]]))
+    worse = ds.assign(law_los_std=(("input", "law"), [[120e-6, 130e-6]]))
     assert "120 µrad at c_on = 30 N s/m, +20 % against" in payload_page.payload_findings(worse)[0]

@@ -19,7 +19,7 @@ sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.
 cases = io.open_dataset(snakemake.input.cases)
 ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera)
 design = payload_design.design_dataset(section)
-for name in ("los_rms", "best_damping"):
+for name in ("los_std", "best_damping"):
     workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 config = {"payload": p.payload, "sources": p.sources, "camera": p.camera, "platform": p.platform}
 command = workflow.snakemake_command(snakemake)

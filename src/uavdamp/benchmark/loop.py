@@ -10,7 +10,7 @@ All runs use the linear plant (`uavdamp.platform.linear_plant.LinearPlant`; the 
 (`uavdamp.damping.actuation`, `uavdamp.platform.force_coupling`). Criteria (`uavdamp.benchmark.scoring`): each
 response metric over the rigid mount's on the same scenario. A tunable law's J of a criterion family comes from the
 run tuned for that family (`tuned_on` says on which criterion); the clairvoyant schedule is a bound only for the
-objectives it optimises (camera_std: the displacement family; los_std: the line of sight), NaN elsewhere. A law
+objectives it optimises (displacement_std: the displacement family; los_std: the line of sight), NaN elsewhere. A law
 decided every solver step runs only with the dampers of benchmark.per_step_dampers, and on the step-check scenarios it
 is rerun at half the step (`step_difference`; the run fails above benchmark.step_check.tolerance, naming the law).
 """
@@ -28,17 +28,19 @@ from threadpoolctl import threadpool_limits
 
 from uavdamp.benchmark import scoring
 from uavdamp.benchmark.runner import Runner, case_of, plant_params
-from uavdamp.benchmark.scoring import FAMILIES, J_CRITERIA, PHASED, RESOURCES
+from uavdamp.benchmark.scoring import J_CRITERIA, RESOURCES
 from uavdamp.benchmark.tuning import TUNED_CONTROLLERS, merge_tuned, tune, tuned_at
+from uavdamp.camera.criteria import CRITERIA, FAMILIES, PHASED, family_of
 from uavdamp.camera.optics import CameraModel
 from uavdamp.contract import NonFiniteDemand
 from uavdamp.damping import actuation
+from uavdamp.damping.clairvoyant import OBJECTIVES
 from uavdamp.settings import attached, require, setting
 from uavdamp.signals.tracking import TrackerOptions
 from uavdamp.study import strategies
 
 __all__ = ["BenchmarkOptions", "gather", "merge_tuned", "plant_params", "run_scenario", "tune", "tuned_at"]
-BOUND_OF = {"displacement": "camera_std", "line_of_sight": "los_std"}  # family -> the clairvoyant's objective
+BOUND_OF = {family_of(c): c for c in OBJECTIVES}  # family -> the clairvoyant's objective
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,7 @@ class TuningOptions:
         where = "benchmark.tuning.criteria"
         unknown = sorted(set(self.criteria) - set(J_CRITERIA))
         require(bool(self.criteria) and not unknown, where, f"unknown {unknown}: each one of {list(J_CRITERIA)}")
-        families = [scoring.family_of(c) for c in self.criteria]
+        families = [family_of(c) for c in self.criteria]
         require(len(set(families)) == len(families), where, f"one criterion per family {dict(FAMILIES)}")
         for key in ("damping_range", "gain_range", "r_scale_range"):
             lo, hi = getattr(self, key)
@@ -68,7 +70,7 @@ class ClairvoyantOptions:
     n_candidates: int = setting()  # log-spaced C from min_damping to the damper's c_max
     min_damping: float = setting("min_damping_n_s_m")  # N s m-1
     beam_width: int = setting()
-    criterion: str = attached("camera_std")  # the objective of one run (BOUND_OF: set per family by the benchmark)
+    criterion: str = attached("displacement_std")  # the objective of one run (BOUND_OF: set per family)
 
     def validate(self) -> None:
         where = "benchmark.clairvoyant."
@@ -142,7 +144,7 @@ def _runs(name: str, options: BenchmarkOptions) -> list[tuple[str | None, tuple]
         return [(None, J_CRITERIA)]
     out = []
     for criterion in options.tuning.criteria:
-        family = scoring.family_of(criterion)
+        family = family_of(criterion)
         if name != "clairvoyant" or family in BOUND_OF:
             out.append((criterion, FAMILIES[family]))
     return out
@@ -154,7 +156,7 @@ def _tuned_on(name: str, options: BenchmarkOptions) -> list[str]:
     for criterion, scored in _runs(name, options):
         label = "" if criterion is None else criterion
         if name == "clairvoyant":
-            label = f"bound: {BOUND_OF[scoring.family_of(criterion)]}"
+            label = f"bound: {BOUND_OF[family_of(criterion)]}"
         found |= dict.fromkeys(scored, label)
     return [found[c] for c in J_CRITERIA]
 
@@ -162,9 +164,9 @@ def _tuned_on(name: str, options: BenchmarkOptions) -> list[str]:
 def _context(runner, case, stiffness, tuned, criterion):
     first = runner.options.tuning.criteria[0]  # an untuned law sees the first criterion's (it reads none of them)
     ctx = runner.context(case, stiffness, tuned_at(tuned, stiffness, first if criterion is None else criterion))
-    if criterion is not None and scoring.family_of(criterion) in BOUND_OF:
+    if criterion is not None and family_of(criterion) in BOUND_OF:
         o = runner.options
-        clairvoyant = dataclasses.replace(o.clairvoyant, criterion=BOUND_OF[scoring.family_of(criterion)])
+        clairvoyant = dataclasses.replace(o.clairvoyant, criterion=BOUND_OF[family_of(criterion)])
         ctx = dataclasses.replace(ctx, options=dataclasses.replace(o, clairvoyant=clairvoyant))
     return ctx
 
@@ -239,7 +241,7 @@ def _store(out: dict, at: tuple, scored, result) -> None:
         out["J"][a, b, J_CRITERIA.index(c), d] = j[c]
         if c in PHASED:
             out["J_low"][a, b, PHASED.index(c), d], out["J_high"][a, b, PHASED.index(c), d] = spread[c]
-    for family in {scoring.family_of(c) for c in scored}:
+    for family in {family_of(c) for c in scored}:
         f = list(FAMILIES).index(family)
         for key, value in resources.items():
             out[key][a, b, f, d] = value
@@ -254,9 +256,7 @@ def _check_half_step(out, at, half, case, stiffness, tuned, criterion, name, dam
     """The law rerun at half the step: |J(h) - J(h/2)| over the criteria its run scores, stored and checked."""
     ctx = _context(half, case, stiffness, tuned, criterion)
     j_half = scoring.criteria(half.run(ctx, strategies.build(name, ctx), damper), rigid, ctx.options.camera, 1)[0]
-    scored = [
-        c for c in (J_CRITERIA if criterion is None else FAMILIES[scoring.family_of(criterion)]) if c not in PHASED
-    ]
+    scored = [c for c in (J_CRITERIA if criterion is None else FAMILIES[family_of(criterion)]) if c not in PHASED]
     difference = actuation.step_difference(j_step, j_half, scored)
     a, b, d = at
     out["step_difference"][a, b, d] = np.fmax(out["step_difference"][a, b, d], difference)
@@ -316,7 +316,7 @@ def _coords(options: BenchmarkOptions) -> dict:
         "stiffness": ("stiffness", list(options.stiffness), {"units": "N m-1", "long_name": "isolator K"}),
         "criterion": names("criterion", J_CRITERIA, "criterion"),
         "criterion_units": names(
-            "criterion", [scoring.UNITS[c] for c in J_CRITERIA], "units of the rigid mount's metric"
+            "criterion", [CRITERIA[c].units for c in J_CRITERIA], "units of the rigid mount's metric"
         ),
         "family": names("family", FAMILIES, "criterion family (a tuned law's runs: one per family)"),
         "phased": names("phased", PHASED, "criteria that depend on the frame clock's phase"),

@@ -1,7 +1,7 @@
 """The benchmark's runs and tuning: each law under each damper model, tuned per criterion family on the tuning set.
 
     tune(inputs, params, options)  every tuned parameter per family (benchmark.tuning.criteria: one criterion per
-                                   family, `uavdamp.benchmark.scoring.FAMILIES`) and stiffness, on the tuning
+                                   family, `uavdamp.camera.criteria.FAMILIES`) and stiffness, on the tuning
                                    scenarios only
     merge_tuned, tuned_at          the tuning jobs' datasets as one; the parameters at (K, criterion)
     register_tuned(key, ...)       a plug-in law's parameter, tuned like the built-in ones (from the plug-in's file)

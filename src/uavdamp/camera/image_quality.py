@@ -36,10 +36,12 @@ over the frames is the metric. The centroid scatter sqrt(var(c_u) + var(c_v)) is
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
 
+from uavdamp.camera.criteria import CRITERIA, window_mask
 from uavdamp.camera.optics import CameraModel, CameraOptics, image_displacement_px
 
 NYQUIST_CYCLES_PER_PX = 0.5
@@ -192,12 +194,10 @@ def frames_from_image_path(
 
 # CF units of a length measured in pixels: UDUNITS (the unit library CF names) has no pixel, so such a metric has
 # units "1" (a length on the sensor over the pixel pitch), its long_name ends "in pixels" and it carries this comment
-PIXEL_COMMENT = "units 1: a length on the sensor divided by the pixel pitch, i.e. in pixels (UDUNITS has no pixel unit)"
-
-
-def pixel_attrs(long_name: str) -> dict[str, str]:
-    """CF attributes of a metric in pixels: units "1", the long_name (ending "in pixels") and PIXEL_COMMENT."""
-    return {"units": "1", "long_name": long_name, "comment": PIXEL_COMMENT}
+def _criterion(name: str, *args) -> tuple[float, str, str]:
+    """(value, units, long_name) of criterion `name` (`uavdamp.camera.criteria`) from its formula's arguments."""
+    c = CRITERIA[name]
+    return c.fn(*args), c.units, c.long_name
 
 
 def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[float, str, str]]:
@@ -212,7 +212,7 @@ def frame_summary(frames: Frames, sharp_threshold_px: float) -> dict[str, tuple[
             "1",
             "median over frames of the smear extent during the exposure, in pixels",
         ),
-        "blur_p95": (float(np.percentile(blur, 95)), "1", "95th percentile over frames of the smear extent, in pixels"),
+        "blur_p95": _criterion("blur_p95", blur, sharp_threshold_px),
         "blur_max": (float(blur.max()), "1", "largest smear extent of a frame, in pixels"),
         "blur_path_median": (
             float(np.median(frames.path_px)),
@@ -251,24 +251,18 @@ def line_of_sight_stats(
     start_s: float | None = None,
     end_s: float | None = None,
 ) -> dict[str, tuple[float, str, str]]:
-    """Std (ddof 0, about the mean) and peak |angle| (from rest) of yaw, pitch and the combined line of sight.
-
-    Combined: std sqrt(var psi + var theta); peak the largest angle between the optical axis and its rest
-    direction, arctan2(|(sin psi cos theta, sin theta)|, cos psi cos theta). Samples within [start, end].
-    """
+    """Std (ddof 0, about the mean) and peak |angle| (from rest) of yaw and pitch, and the criteria los_std and
+    los_peak (`uavdamp.camera.criteria`), over the samples within [start, end] (`criteria.window_mask`)."""
     t = _check_time(time, ("yaw", yaw), ("pitch", pitch))
-    start, end = _span(t, start_s, end_s)
-    tol = 1e-9 * (t[1] - t[0])
-    keep = (t >= start - tol) & (t <= end + tol)
+    keep = window_mask(t, *_span(t, start_s, end_s))
     psi, theta = np.asarray(yaw, dtype=float)[keep], np.asarray(pitch, dtype=float)[keep]
-    off_axis = np.arctan2(np.hypot(np.sin(psi) * np.cos(theta), np.sin(theta)), np.cos(psi) * np.cos(theta))
     return {
         "los_yaw_std": (float(np.std(psi)), "rad", "standard deviation of the camera yaw"),
         "los_yaw_peak": (float(np.abs(psi).max()), "rad", "peak absolute camera yaw"),
         "los_pitch_std": (float(np.std(theta)), "rad", "standard deviation of the camera pitch"),
         "los_pitch_peak": (float(np.abs(theta).max()), "rad", "peak absolute camera pitch"),
-        "los_std": (float(np.hypot(np.std(psi), np.std(theta))), "rad", "line-of-sight std sqrt(var yaw + var pitch)"),
-        "los_peak": (float(off_axis.max()), "rad", "peak angle between the optical axis and its rest direction"),
+        "los_std": _criterion("los_std", psi, theta),
+        "los_peak": _criterion("los_peak", psi, theta),
     }
 
 
@@ -312,3 +306,35 @@ def image_metrics(
         **line_of_sight_stats(time, camera_yaw, camera_pitch, start_s, end_s),
         **frame_summary(frames, camera.sharp_threshold_px),
     }
+
+
+def camera_criteria(
+    names,
+    time: np.ndarray,
+    camera_displacement: np.ndarray,
+    camera_yaw: np.ndarray,
+    camera_pitch: np.ndarray,
+    camera: CameraModel | None = None,
+    start_s: float | None = None,
+    end_s: float | None = None,
+) -> dict[str, float]:
+    """The criteria `names` (`uavdamp.camera.criteria`) of a response's arrays over [start_s, end_s] (default: the
+    record), the frame clock starting at the window's start; the frame criteria need a `camera` (a `CameraOptics`
+    without a sharp threshold gives unsharp_fraction NaN)."""
+    t = _check_time(time, ("camera_yaw", camera_yaw), ("camera_pitch", camera_pitch))
+    start, end = _span(t, start_s, end_s)
+    keep = window_mask(t, start, end)
+    if keep.sum() < 2:
+        raise ValueError(f"window [{start}, {end}] s holds fewer than 2 samples")
+    chosen = [CRITERIA[name] for name in names]
+    frames = None
+    if any(c.uses == "frames" for c in chosen):
+        if camera is None:
+            raise ValueError(f"criteria {[c.name for c in chosen if c.uses == 'frames']} need a camera")
+        frames = frame_metrics(t, camera_displacement, camera_yaw, camera_pitch, camera, start, end)
+    args = {
+        "displacement": lambda: (np.asarray(camera_displacement, dtype=float)[:, keep],),
+        "angles": lambda: (np.asarray(camera_yaw, dtype=float)[keep], np.asarray(camera_pitch, dtype=float)[keep]),
+        "frames": lambda: (frames.blur_px, getattr(camera, "sharp_threshold_px", math.nan)),
+    }
+    return {c.name: c.fn(*args[c.uses]()) for c in chosen}

@@ -4,10 +4,10 @@ It bounds what a scheduler that changes C every update period P (the paper's 0.5
 but only over the schedules it explores: a beam search (width `beam_width`) over `candidates` C per period on
 the linear plant (`uavdamp.platform.linear_plant.LinearPlant`, exact for its linearisation), plus every constant
 schedule among the candidates. It is not a global optimum: a schedule the beam pruned, or a C between candidates, may do
-better. The criterion is named (`OBJECTIVES`): the square root of the summed variances (1/N, whole run) of output
-rows of the plant, e.g. "camera_std" = sqrt(var y + var z) of the camera displacement (the study's criterion) or
-"los_std" = sqrt(var yaw + var pitch) (`uavdamp.camera.image_quality.line_of_sight_stats`). Partial runs are ranked by
-the same expression over the samples so far (a heuristic: the variance of a prefix).
+better. The criterion is named (`OBJECTIVES`), one of `uavdamp.camera.criteria` that is the square root of the summed
+variances (1/N, whole run) of output rows of the plant: "displacement_std" = sqrt(var y + var z) of the camera
+displacement (the study's criterion) or "los_std" = sqrt(var yaw + var pitch). Partial runs are ranked by the same
+expression over the samples so far (a heuristic: the variance of a prefix).
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy as np
 from uavdamp.platform.linear_plant import OUTPUTS
 from uavdamp.platform.statespace import lift, propagate
 
-OBJECTIVES = {"camera_std": ("camera_y", "camera_z"), "los_std": ("yaw", "pitch")}  # name -> output rows
+OBJECTIVES = {"displacement_std": ("camera_y", "camera_z"), "los_std": ("yaw", "pitch")}  # name -> output rows
 _BLOCK = 32
 
 
@@ -58,7 +58,7 @@ def schedule(
     candidates,
     update_period: float,
     beam_width: int,
-    criterion: str = "camera_std",
+    criterion: str = "displacement_std",
 ) -> ClairvoyantSchedule:
     """Beam search for the piecewise-constant C (per `update_period` s) minimising `criterion` on `plant`.
 

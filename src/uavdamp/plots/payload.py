@@ -13,6 +13,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 from uavdamp.plots.style import number, plain_log_ticks  # noqa: E402
+from uavdamp.sources.levels import G  # noqa: E402
 
 URAD_PER_RAD = 1e6
 ANCHOR_URAD = 175.0  # ±0.01 deg: the angular vibration range gimbal makers quote (DJI)
@@ -32,7 +33,7 @@ LABELS = {
 def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     """LOS rms (µrad, log) against the constant damping C (N s/m, log) per payload (colour) and mount (line
     style), one panel per input (`input`); the rigid mount, which has no damper, is a level line; the gimbal's
-    sensor-noise floor (`floor_los_rms`) dash-dotted grey where present; values below FLOOR_URAD on the axis as
+    sensor-noise floor (`floor_los_std`) dash-dotted grey where present; values below FLOOR_URAD on the axis as
     downward triangles."""
     inputs = [str(i) for i in ds.input.values]
     ncols = min(3, len(inputs))
@@ -40,7 +41,7 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     fig = Figure(figsize=(4.6 * ncols + 2.2, 3.4 * nrows + 0.6), layout="constrained")
     axes = np.atleast_1d(fig.subplots(nrows, ncols, sharex=True, squeeze=False)).ravel()
     c = ds.damping.values
-    los = ds.los_rms * URAD_PER_RAD
+    los = ds.los_std * URAD_PER_RAD
     for ax, name in zip(axes, inputs, strict=False):
         for payload in ds.payload.values:
             for mount in ds.mount.values:
@@ -53,14 +54,14 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
                 )
                 if np.any(below):  # e.g. a balanced head under a source without rotation: no line of sight at all
                     ax.plot(c[below], np.full(below.sum(), FLOOR_URAD), "v", color=color, ms=7, clip_on=False)
-        if "law_los_rms" in ds:  # on-off skyhook on the six-axis isolator, at its c_on
-            y = ds.law_los_rms.sel(input=name).values * URAD_PER_RAD
+        if "law_los_std" in ds:  # on-off skyhook on the six-axis isolator, at its c_on
+            y = ds.law_los_std.sel(input=name).values * URAD_PER_RAD
             ax.plot(ds.law_c_on.sel(input=name).values, np.maximum(y, FLOOR_URAD), "*", color=COLORS["gimbal"], ms=10)
         ax.axhline(ANCHOR_URAD, color="k", lw=0.8, alpha=0.6)
         ax.annotate("±0.01° (175 µrad)", (1.0, ANCHOR_URAD), xycoords=("axes fraction", "data"), ha="right",
                     va="bottom", fontsize=7, alpha=0.8)  # fmt: skip
-        if "floor_los_rms" in ds and "gimbal" in ds.payload.values:
-            floor = float(ds.floor_los_rms.sel(payload="gimbal")) * URAD_PER_RAD
+        if "floor_los_std" in ds and "gimbal" in ds.payload.values:
+            floor = float(ds.floor_los_std.sel(payload="gimbal")) * URAD_PER_RAD
             if floor > 0:
                 ax.axhline(floor, color="0.5", lw=0.8, ls="-.")
         ax.set_xscale("log")
@@ -89,10 +90,10 @@ def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
     labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
     handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]
     labels += [LABELS.get(str(m), str(m)) for m in ds.mount.values]
-    if "law_los_rms" in ds:
+    if "law_los_std" in ds:
         handles.append(Line2D([], [], color=COLORS["gimbal"], ls="", marker="*", ms=10))
         labels.append(f"gimbal, six-axis, skyhook (x: c_on;\nc_off {number(float(ds.damping.min()))} N s/m)")
-    if "floor_los_rms" in ds and "gimbal" in ds.payload.values:
+    if "floor_los_std" in ds and "gimbal" in ds.payload.values:
         handles.append(Line2D([], [], color="0.5", lw=0.8, ls="-."))
         labels.append("gimbal's sensor-noise floor")
     return handles, labels
@@ -115,7 +116,6 @@ MOUNT_COLORS = {"rigid": "0.35", "yz": "tab:green", "six_axis": "tab:purple"}
 MOUNT_WIDTHS = {"rigid": 3.2, "yz": 1.8, "six_axis": 1.4}  # wide to narrow: a curve another hides shows around it
 CARRIED_STYLES = {"fixed": "--", "gimbal": "-"}
 CARRIED_LABELS = {"fixed": "camera fixed to the mount", "gimbal": "stabilised gimbal"}
-G = 9.80665  # m s-2
 
 
 def transmissibility_figure(design: xr.Dataset) -> Figure:

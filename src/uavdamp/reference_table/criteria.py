@@ -1,13 +1,14 @@
 """The grid's camera criteria over time windows, and the reference table: the damping that minimises each.
 
-Criteria (each a number per run and window; smaller is better):
-    displacement   sqrt(sigma_y^2 + sigma_z^2), m: the standard deviations (1/N) of the camera's y and z
-                   displacement (the paper's Eq. 1 up to the square root, which does not move the argmin)
-    line_of_sight  sqrt(var psi + var theta), rad: the camera's yaw and pitch (1/N), as `image_quality.los_std`
-    blur           95th percentile over the window's frames of the per-frame blur, px (units "1"), with the
-                   camera section's model (`uavdamp.camera.image_quality`: frames start at the window's start)
+Criteria: the table's `criterion` names a family of `uavdamp.camera.criteria` and tabulates its first member, a
+number per run and window (smaller is better), defined there once with its units and long name:
+    displacement   displacement_std, m: sqrt(var y + var z) of the camera's displacement (the paper's Eq. 1 up to
+                   the square root, which does not move the argmin)
+    line_of_sight  los_std, rad: sqrt(var yaw + var pitch)
+    blur           blur_p95, in pixels (units "1"): 95th percentile over the window's frames of the smear extent,
+                   with the camera section's model (`uavdamp.camera.image_quality`: frames start at the window's start)
 Windows are named spans [start, end] s of each run (config `reference_table.windows`): `transient` from rest
-(the paper's), `steady` after the isolator's start-up.
+(the paper's), `steady` after the isolator's start-up; the samples in a window follow `criteria.window_mask`.
 
 From a response dataset (`response_criteria`, the Exudyn path and the verification) the blur uses the exact
 pinhole projection (`uavdamp.camera.optics`); the batched linear grid (`uavdamp.reference_table.sine_batch`) uses its
@@ -28,14 +29,17 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from uavdamp.camera.image_quality import frame_metrics, pixel_attrs
+from uavdamp.camera import criteria as cam
+from uavdamp.camera.image_quality import camera_criteria
 from uavdamp.camera.optics import CameraOptics
 
-CRITERIA = {
-    "displacement": {"units": "m", "long_name": "camera displacement sqrt(sigma_y^2 + sigma_z^2) over the window"},
-    "line_of_sight": {"units": "rad", "long_name": "line-of-sight jitter sqrt(var yaw + var pitch) over the window"},
-    "blur": pixel_attrs("95th percentile over the window's frames of the image blur, in pixels"),
-}
+
+def _table_attrs(family: str) -> dict[str, str]:
+    attrs = cam.CRITERIA[cam.primary(family)].attrs
+    return {**attrs, "long_name": f"{attrs['long_name']} over the window ({cam.primary(family)})"}
+
+
+CRITERIA = {family: _table_attrs(family) for family in cam.FAMILIES}  # the table's criteria: families
 CRITERION_ATTRS = CRITERIA["displacement"]
 WINDOW_ATTRS = {"units": "1", "long_name": "criterion time window (reference_table.windows)"}
 EDGE_ATTRS = {
@@ -64,33 +68,30 @@ def check_choice(criterion: str, window: str, windows) -> None:
 # ------------------------------------------------------------------------------------------ from a response
 
 
-def camera_criterion(camera_displacement: xr.DataArray, window: tuple[float, float]) -> float:
-    """Displacement criterion, m, of a camera displacement (axis, time) in m over `window` = (start, end) s."""
-    start, end = window
-    part = camera_displacement.sel(time=slice(start - 1e-12, end + 1e-12))
-    if part.sizes["time"] < 2:
+def _in_window(values: xr.DataArray, window: tuple[float, float]) -> np.ndarray:
+    """(rows, samples) of `values` (..., time) within `window` (`criteria.window_mask`); ValueError below 2."""
+    keep = cam.window_mask(values.time.values, *window)
+    if keep.sum() < 2:
         raise ValueError(f"window {list(window)} s holds fewer than 2 samples")
-    sigma = part.std(dim="time", ddof=0)
-    return float(np.sqrt((sigma**2).sum(dim="axis")))
+    return np.atleast_2d(values.transpose(..., "time").values)[:, keep]
+
+
+def camera_criterion(camera_displacement: xr.DataArray, window: tuple[float, float]) -> float:
+    """Displacement criterion (`criteria.displacement_std`), m, of a camera displacement (axis, time) in m over
+    `window` = (start, end) s."""
+    return cam.displacement_std(_in_window(camera_displacement, window))
 
 
 def line_of_sight_criterion(response: xr.Dataset, window: tuple[float, float]) -> float:
-    """sqrt(var yaw + var pitch), rad (1/N), of a response over `window` (samples as `camera_criterion`)."""
-    angles = xr.concat([response.camera_yaw, response.camera_pitch], dim="axis")
-    return camera_criterion(angles, window)
+    """Line-of-sight criterion (`criteria.los_std`), rad, of a response over `window`."""
+    yaw, pitch = _in_window(xr.concat([response.camera_yaw, response.camera_pitch], dim="axis"), window)
+    return cam.los_std(yaw, pitch)
 
 
 def blur_criterion(response: xr.Dataset, camera: CameraOptics, window: tuple[float, float]) -> float:
-    """95th percentile of the frames' blur, px, exact projection (`image_quality.frame_metrics`) over `window`."""
-    frames = frame_metrics(
-        response.time.values,
-        response.camera_displacement.values,
-        response.camera_yaw.values,
-        response.camera_pitch.values,
-        camera,
-        *window,
-    )
-    return float(np.percentile(frames.blur_px, 95))
+    """Blur criterion (`criteria.blur_p95`), px, exact projection (`image_quality.frame_metrics`) over `window`."""
+    args = (response.camera_displacement.values, response.camera_yaw.values, response.camera_pitch.values)
+    return camera_criteria(["blur_p95"], response.time.values, *args, camera, *window)["blur_p95"]
 
 
 def response_criteria(response: xr.Dataset, windows: dict, camera: CameraOptics) -> np.ndarray:

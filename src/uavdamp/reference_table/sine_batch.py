@@ -17,6 +17,7 @@ import math
 import numpy as np
 from scipy import sparse
 
+from uavdamp.camera.criteria import window_mask
 from uavdamp.camera.image_quality import frame_starts
 from uavdamp.camera.optics import CameraOptics
 from uavdamp.platform.linear_plant import OUTPUTS, LinearPlant
@@ -24,11 +25,9 @@ from uavdamp.platform.statespace import free_response_rows, sine_outputs
 
 
 def window_steps(duration: float, window: tuple[float, float], h: float) -> np.ndarray:
-    """Grid indices k (t = k h, s) of a `duration` s sine run inside `window`, as `camera_criterion` selects them."""
+    """Grid indices k (t = k h, s) of a `duration` s sine run inside `window` (`criteria.window_mask`)."""
     steps = int(math.floor(round(duration / h) * h / h + 1e-9))  # sine_input's samples, then the run's grid
-    time = np.arange(steps + 1) * h
-    start, end = window
-    k = np.flatnonzero((time >= start - 1e-12) & (time <= end + 1e-12))
+    k = np.flatnonzero(window_mask(np.arange(steps + 1) * h, *window))
     if k.size < 2:
         raise ValueError(f"window {list(window)} s holds fewer than 2 samples")
     return k
@@ -45,7 +44,8 @@ def sine_criteria(
     windows: dict,
     camera=None,
 ) -> dict[str, np.ndarray]:
-    """Every criterion (`uavdamp.reference_table.criteria`) of every (f_y, f_z) pair at constant (K, C), every window.
+    """Every criterion (`uavdamp.reference_table.criteria`, defined in `uavdamp.camera.criteria`) of every
+    (f_y, f_z) pair at constant (K, C), every window.
 
     Returns {criterion: (n_windows, n_fy, n_fz)} in `windows` order (blur only with a `camera`). Inputs
     y = A sin(2 pi f_y t), z = A sin(2 pi f_z t) exactly (m, from rest as the Exudyn plant starts); windows

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 from threadpoolctl import threadpool_limits
 
-from uavdamp.camera.image_quality import PIXEL_COMMENT
+from uavdamp.camera.criteria import PIXEL_COMMENT
 from uavdamp.contract import SolverFailed
 from uavdamp.platform import PlatformParams
 from uavdamp.reference_table import chunks
@@ -123,7 +123,7 @@ def verify(
 
 
 def _in_pixels(name: str) -> str:
-    """ ", in pixels" for a criterion measured in pixels (`image_quality.pixel_attrs`), else ""."""
+    """ ", in pixels" for a criterion measured in pixels (`uavdamp.camera.criteria.pixel_attrs`), else ""."""
     return ", in pixels" if crit.CRITERIA[name].get("comment") == PIXEL_COMMENT else ""
 
 

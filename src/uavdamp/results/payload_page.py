@@ -20,7 +20,7 @@ def payload_table(ds: xr.Dataset) -> Table:
     for i, p in itertools.product(ds.input.values, ds.payload.values):
         record = {"input": str(i), "payload": str(p)}
         for m in ds.mount.values:
-            los, best = ds.los_rms.sel(input=i, payload=p, mount=m), ds.best_damping.sel(input=i, payload=p, mount=m)
+            los, best = ds.los_std.sel(input=i, payload=p, mount=m), ds.best_damping.sel(input=i, payload=p, mount=m)
             if m == "rigid":
                 record["rigid (µrad)"] = fmt(float(los.max()) * 1e6, 3)
             else:
@@ -40,7 +40,7 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
     anchor, and the best skyhook run on the six-axis isolator against it (`_skyhook_finding`)."""
     out = []
     for i in ds.input.values:
-        los = ds.los_rms.sel(input=i)
+        los = ds.los_std.sel(input=i)
         p, m, c = np.unravel_index(int(np.nanargmin(los.values)), los.shape)
         value = float(los.values[p, m, c])
         where = f"{ds.payload.values[p]} on the {ds.mount.values[m]} mount"
@@ -58,11 +58,11 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
 
 def _skyhook_finding(ds: xr.Dataset, name) -> str:
     """The best skyhook run on the six-axis isolator against the gimbal's best constant C there ('' without)."""
-    if "law_los_rms" not in ds:
+    if "law_los_std" not in ds:
         return ""
-    law = ds.law_los_rms.sel(input=name)
+    law = ds.law_los_std.sel(input=name)
     k = int(np.nanargmin(law.values))
-    best = float(ds.los_rms.sel(input=name, payload="gimbal", mount="six_axis").min())
+    best = float(ds.los_std.sel(input=name, payload="gimbal", mount="six_axis").min())
     value, c_on = float(law.values[k]), float(ds.law_c_on.sel(input=name).values[k])
     return (
         f" Skyhook on the six-axis isolator (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "

@@ -11,8 +11,8 @@ concatenates them with xarray. Adding a metric is one function with ``@register(
     peak_stroke        largest |dynamic isolator stroke| over the run, per axis, m (NaN: rigid mount); the
                        study adds the static sag and manoeuvre stroke to it (`uavdamp.platform.stroke`)
     image              line of sight and image blur over the run (`uavdamp.camera.image_quality`; needs options.camera):
-                       los_* (rad), blur_* (in pixels: units "1", `image_quality.pixel_attrs`), sharp_fraction,
-                       mtf_nyquist_median, frame_blur (frame, pixels)
+                       los_* (rad), blur_* (in pixels: units "1"), sharp_fraction, mtf_nyquist_median, frame_blur
+                       (frame, pixels); los_std, los_peak and blur_p95 are the criteria of `uavdamp.camera.criteria`
 
 A metric may also return a Dataset: a group of named values computed together.
 """
@@ -26,6 +26,7 @@ import xarray as xr
 
 from uavdamp import registry
 from uavdamp.camera import image_quality
+from uavdamp.camera.criteria import pixel_attrs
 
 REGISTRY: dict[str, Callable] = {}
 
@@ -110,9 +111,7 @@ def image(response: xr.Dataset, options) -> xr.Dataset:
             name: (
                 (),
                 value,
-                image_quality.pixel_attrs(long_name)
-                if long_name.endswith("in pixels")
-                else {"units": units, "long_name": long_name},
+                pixel_attrs(long_name) if long_name.endswith("in pixels") else {"units": units, "long_name": long_name},
             )
             for name, (value, units, long_name) in values.items()
         }
@@ -120,8 +119,6 @@ def image(response: xr.Dataset, options) -> xr.Dataset:
     out["frame_blur"] = (
         "frame",
         frames.blur_px,
-        image_quality.pixel_attrs(
-            "blur of each frame: extent of the image path of the scene point during the exposure, in pixels"
-        ),
+        pixel_attrs("blur of each frame: extent of the image path of the scene point during the exposure, in pixels"),
     )
     return out.assign_coords(frame=("frame", frames.start_s, {"units": "s", "long_name": "frame start time"}))

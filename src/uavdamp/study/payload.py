@@ -19,7 +19,7 @@ Choices and assumptions:
 - One-way coupling: the gimbal motors' reaction torque on the isolated body is left out of the body's motion
   (`uavdamp.platform.gimbal_loop.design_report` sizes it).
 - Every gimbal run draws its IMU noise from a fresh Generator of ``payload.seed`` (common random numbers: runs
-  differ by the mount alone); ``floor_los_rms`` is the gimbal on a still mount (the heads': 0).
+  differ by the mount alone); ``floor_los_std`` is the gimbal on a still mount (the heads': 0).
 - The six-axis isolator carries the gimbal's gravity (geometric stiffness); every element's damper is semi-active
   at the candidate C along x, y and z. Its modes by default (`uavdamp.study.payload_design.design_dataset`):
   2.77 Hz (x + ry), 2.79 (y + rx),
@@ -281,7 +281,7 @@ def _floor(setup: _Setup) -> np.ndarray:
         t = np.arange(int(round(s.duration_s / s.time_step_s)) + 1) * s.time_step_s
         still = MountMotion(np.zeros((3, t.size)), np.zeros((3, t.size)))
         series = _series(setup, t, still, "gimbal", "rigid", math.nan)
-        out[s.payloads.index("gimbal")] = runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)["los_rms"]
+        out[s.payloads.index("gimbal")] = runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)["los_std"]
     return out
 
 
@@ -291,8 +291,8 @@ def compare_payloads(
     """Every payload x mount x damping candidate (module docstring) under the mount motion (time s, any start;
     the first ``duration_s`` of it on the ``time_step_s`` grid): the metrics of `payload_runs.METRICS` over
     (payload, mount, damping), NaN where not modelled (`modelled`), the rigid mount's the same at every C;
-    ``best_damping`` (payload, mount) the C of the least ``los_rms`` (NaN: rigid, not modelled) and
-    ``floor_los_rms`` (payload) the LOS rms on a still mount. Assumptions: module docstring."""
+    ``best_damping`` (payload, mount) the C of the least ``los_std`` (NaN: rigid, not modelled) and
+    ``floor_los_std`` (payload) the LOS rms on a still mount. Assumptions: module docstring."""
     setup = _setup(section, platform, camera)
     t, moved = _input(time, mount, section)
     return _dataset(setup, _values(setup, t, moved), _floor(setup), laws.law_values(setup, t, moved))
@@ -325,7 +325,7 @@ def compare_inputs(
     found: list[PayloadInput], section: PayloadSection, platform: PlatformParams, camera: CameraModel
 ) -> xr.Dataset:
     """`compare_payloads` of every input, stacked over ``input`` (with ``input_description``); the still mount's
-    ``floor_los_rms`` once (it does not depend on the input). The inputs run on ``threads`` joblib workers
+    ``floor_los_std`` once (it does not depend on the input). The inputs run on ``threads`` joblib workers
     (`uavdamp.parallel.run`): the same numbers on any count."""
     require(len(found) > 0, "payload.sources", "no input: the study has no case and payload.sources is empty")
     floor = _floor(_setup(section, platform, camera))
@@ -333,12 +333,12 @@ def compare_inputs(
     tasks = [(_one_input, (section, platform, camera, t, moved, floor)) for t, moved in gridded]
     per_input = parallel.run(tasks, section.threads)
     names = [i.name for i in found]
-    ds = xr.concat([d.drop_vars("floor_los_rms") for d in per_input], dim="input", combine_attrs="override")
+    ds = xr.concat([d.drop_vars("floor_los_std") for d in per_input], dim="input", combine_attrs="override")
     ds = ds.assign_coords(input=("input", names, {"units": "1", "long_name": "input (study case or stated source)"}))
     ds["input_description"] = ("input", [i.description for i in found], {"units": "1", "long_name": "the input"})
     rotation = [float(np.sqrt(np.sum(np.var(moved.rotation, axis=1)))) for _, moved in gridded]
     ds["input_rotation_rms"] = ("input", rotation, {"units": "rad", "long_name": "the mount's rotation rms (3 axes)"})
-    ds["floor_los_rms"] = per_input[0].floor_los_rms
+    ds["floor_los_std"] = per_input[0].floor_los_std
     return ds
 
 
@@ -348,12 +348,12 @@ def _one_input(section, platform, camera, t: np.ndarray, moved: MountMotion, flo
     return _dataset(setup, _values(setup, t, moved), floor, laws.law_values(setup, t, moved))
 
 
-def _best_damping(section: PayloadSection, los_rms: np.ndarray) -> np.ndarray:
+def _best_damping(section: PayloadSection, los_std: np.ndarray) -> np.ndarray:
     """(payload, mount) the candidate C of the least LOS rms; NaN for the rigid mount and where not modelled."""
-    out = np.full(los_rms.shape[:2], math.nan)
+    out = np.full(los_std.shape[:2], math.nan)
     for i, j in np.ndindex(out.shape):
-        if section.mounts[j] != "rigid" and np.isfinite(los_rms[i, j]).any():
-            out[i, j] = section.damping[int(np.nanargmin(los_rms[i, j]))]
+        if section.mounts[j] != "rigid" and np.isfinite(los_std[i, j]).any():
+            out[i, j] = section.damping[int(np.nanargmin(los_std[i, j]))]
     return out
 
 
@@ -364,10 +364,10 @@ def _dataset(setup: _Setup, values: dict, floor: np.ndarray, law_values: dict) -
     data = {name: (dims, v, runs.metric_attrs(name)) for name, v in values.items()}
     data["best_damping"] = (
         ("payload", "mount"),
-        _best_damping(s, values["los_rms"]),
+        _best_damping(s, values["los_std"]),
         {"units": "N s m-1", "long_name": "constant damping of the least line-of-sight rms (NaN: rigid mount)"},
     )
-    data["floor_los_rms"] = (
+    data["floor_los_std"] = (
         ("payload",),
         floor,
         {"units": "rad", "long_name": "line-of-sight rms on a still mount (the gimbal's sensor floor; heads 0)"},

@@ -21,7 +21,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from uavdamp.camera.image_quality import frame_summary, frames_from_image_path, line_of_sight_stats, pixel_attrs
+from uavdamp.camera.criteria import CRITERIA, los_std, pixel_attrs, window_mask
+from uavdamp.camera.image_quality import frame_summary, frames_from_image_path
 from uavdamp.camera.optics import CameraModel, image_displacement_px
 from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Constant
@@ -201,37 +202,39 @@ def head_series(plants, mount_kind: str, time: np.ndarray, mount: MountMotion, s
     return Series(roll, r.camera_pitch.values, r.camera_yaw.values, y, z, None, stroke)
 
 
-# name: (units, long_name, in pixels) of the metrics of one run
+# name: (units, long_name, in pixels) of the metrics of one run; None: a criterion of `uavdamp.camera.criteria`
 METRICS = {
-    "los_rms": ("rad", "line-of-sight rms sqrt(var yaw + var pitch) over the settled window", False),
+    "los_std": None,
     "los_roll_rms": ("rad", "line-of-sight roll rms (std) over the settled window", False),
     "los_peak_to_peak": ("rad", "largest frame-to-frame image offset, as an angle (arctan of px / focal px)", False),
     "jitter_within_exposure": ("1", "rms over frames of the jitter about the exposure's linear smear, in pixels", True),
     "drift_frame_to_frame": ("1", "rms distance between consecutive frame centroids, in pixels", True),
     "mtf_nyquist": ("1", "mean over frames of the motion and jitter MTF at the sensor Nyquist frequency", False),
     "skew_px": ("1", "95th percentile of the rolling-shutter shift first row to last row, in pixels", True),
-    "blur_p95": ("1", "95th percentile over frames of the smear extent, in pixels", True),
+    "blur_p95": None,
     "torque_saturated": ("1", "share of gimbal samples (axes x time, settled window) at the torque limit", False),
     "peak_stroke": ("m", "largest isolator element stroke along an element axis over the run", False),
 }
 
 
 def metric_attrs(name: str) -> dict[str, str]:
-    """CF attributes of metric `name` (pixels: `uavdamp.camera.image_quality.pixel_attrs`)."""
+    """CF attributes of metric `name` (a criterion's from `uavdamp.camera.criteria`, over the settled window)."""
+    if METRICS[name] is None:
+        attrs = CRITERIA[name].attrs
+        return {**attrs, "long_name": f"{attrs['long_name']} over the settled window"}
     units, long_name, pixels = METRICS[name]
     return pixel_attrs(long_name) if pixels else {"units": units, "long_name": long_name}
 
 
 def run_metrics(time: np.ndarray, s: Series, camera: CameraModel, start: float, end: float) -> dict[str, float]:
     """The metrics of `METRICS` of one run over the window [start, end] s (peak_stroke over the whole run)."""
-    los = line_of_sight_stats(time, s.yaw, s.pitch, start, end)
-    keep = (time >= start - 1e-9) & (time <= end + 1e-9)
+    keep = window_mask(time, start, end)
     u, v = image_displacement_px(camera, s.yaw, s.pitch, s.y, s.z)
     frames = frames_from_image_path(time, u, v, camera, start, end)
     summary = frame_summary(frames, camera.sharp_threshold_px)
     steps = np.linalg.norm(np.diff(frames.centroid_px, axis=0), axis=-1)
     return {
-        "los_rms": los["los_std"][0],
+        "los_std": los_std(s.yaw[keep], s.pitch[keep]),
         "los_roll_rms": float(np.std(s.roll[keep])),
         "los_peak_to_peak": float(np.arctan(steps.max() / camera.focal_px)) if steps.size else math.nan,
         "jitter_within_exposure": float(np.sqrt(np.mean(frames.sigma_px**2))),

@@ -35,6 +35,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from uavdamp import registry
+from uavdamp.camera.criteria import CRITERIA
 from uavdamp.contract import DamperBounds, clip
 from uavdamp.damping import clairvoyant as cv
 from uavdamp.damping import laws
@@ -287,13 +288,8 @@ def clairvoyant(ctx: Context) -> Strategy:
         candidates=candidates,
         update_period=period,
         beam_width=o.beam_width,
-        criterion=getattr(o, "criterion", "camera_std"),
+        criterion=getattr(o, "criterion", "displacement_std"),
     )
-    info = {
-        "clairvoyant_cost": (
-            found.cost,
-            "m" if found.criterion == "camera_std" else "rad",
-            f"clairvoyant schedule's {found.criterion}",
-        )
-    }
+    units = CRITERIA[found.criterion].units
+    info = {"clairvoyant_cost": (found.cost, units, f"clairvoyant schedule's {found.criterion}")}
     return Strategy("clairvoyant", "isolated", laws.Schedule(found.values, update_period=period), info)
