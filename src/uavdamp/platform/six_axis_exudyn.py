@@ -46,30 +46,22 @@ def build(isolator: SixAxisIsolator) -> ExudynIsolator:
     body = mbs.CreateRigidBody(
         referencePosition=[0.0, 0.0, 0.0], inertia=inertia, nodeType=exu.NodeType.RotationRxyz, show=False
     )
-    ground = mbs.AddObject(ObjectGround())
-    for e in isolator.elements:
-        mbs.CreateCartesianSpringDamper(
-            itemNumbers=[ground, body],
-            localPosition0=list(e.position),
-            localPosition1=list(e.position),
-            stiffness=list(e.stiffness),
-            damping=list(e.damping),
-            show=False,
-        )
-        if max(e.rotational_stiffness) > 0 or max(e.rotational_damping) > 0:
-            k, c = np.zeros((6, 6)), np.zeros((6, 6))
-            k[3:, 3:], c[3:, 3:] = np.diag(e.rotational_stiffness), np.diag(e.rotational_damping)
-            mbs.CreateRigidBodySpringDamper(
-                itemNumbers=[ground, body],
-                localPosition0=list(e.position),
-                localPosition1=list(e.position),
-                stiffness=k,
-                damping=c,
-                show=False,
-            )
+    _add_elements(mbs, isolator, mbs.AddObject(ObjectGround()), body)
     mbs.Assemble()
     node = mbs.GetObject(body)["nodeNumber"]
     return ExudynIsolator(sc, mbs, body, node)
+
+
+def _add_elements(mbs, isolator: SixAxisIsolator, base: int, body: int) -> None:
+    """Each element between `base` and `body` (object numbers) at its position: a CartesianSpringDamper for its
+    translational stiffness and damping, and a RigidBodySpringDamper for its rotational ones where it has any."""
+    for e in isolator.elements:
+        ends = {"itemNumbers": [base, body], "localPosition0": list(e.position), "localPosition1": list(e.position)}
+        mbs.CreateCartesianSpringDamper(**ends, stiffness=list(e.stiffness), damping=list(e.damping), show=False)
+        if max(e.rotational_stiffness) > 0 or max(e.rotational_damping) > 0:
+            k, c = np.zeros((6, 6)), np.zeros((6, 6))
+            k[3:, 3:], c[3:, 3:] = np.diag(e.rotational_stiffness), np.diag(e.rotational_damping)
+            mbs.CreateRigidBodySpringDamper(**ends, stiffness=k, damping=c, show=False)
 
 
 def modes(isolator: SixAxisIsolator) -> tuple[np.ndarray, np.ndarray]:
@@ -166,13 +158,7 @@ def _two_bodies(isolator: SixAxisIsolator, u0: np.ndarray, v0: np.ndarray) -> _P
             )
         )
     payload, mount = bodies
-    for e in isolator.elements:
-        ends = {"itemNumbers": [mount, payload], "localPosition0": list(e.position), "localPosition1": list(e.position)}
-        mbs.CreateCartesianSpringDamper(**ends, stiffness=list(e.stiffness), damping=list(e.damping), show=False)
-        if max(e.rotational_stiffness) > 0 or max(e.rotational_damping) > 0:
-            k, c = np.zeros((6, 6)), np.zeros((6, 6))
-            k[3:, 3:], c[3:, 3:] = np.diag(e.rotational_stiffness), np.diag(e.rotational_damping)
-            mbs.CreateRigidBodySpringDamper(**ends, stiffness=k, damping=c, show=False)
+    _add_elements(mbs, isolator, mount, payload)
     node = mbs.GetObject(payload)["nodeNumber"]
     return _Pair(mbs, sc, node, mbs.GetObject(mount)["nodeNumber"])
 

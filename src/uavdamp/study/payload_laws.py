@@ -57,13 +57,18 @@ def skyhook_motion(
     return BodyMotion(coordinates, body_rates, accelerations, peak), on
 
 
-def law_names(section) -> list[str]:
-    """The law runs of a section: skyhook_C for every damping candidate C above the least (c_on C, c_off the least):
-    the choice of c_on swept over the candidates; [] when the section compares no gimbal on a six-axis isolator."""
+def law_c_on(section) -> list[float]:
+    """The skyhook runs' c_on, N s m-1: every damping candidate above the least (c_off, a choice): the choice of
+    c_on swept over the candidates; [] when the section compares no gimbal on a six-axis isolator."""
     if "gimbal" not in section.payloads or "six_axis" not in section.mounts:
         return []
     c_off = min(section.damping)
-    return [f"skyhook_{c:g}" for c in sorted(section.damping) if c > c_off]
+    return [float(c) for c in sorted(section.damping) if c > c_off]
+
+
+def law_names(section) -> list[str]:
+    """The law runs' names, skyhook_C for each C of `law_c_on`."""
+    return [f"skyhook_{c:g}" for c in law_c_on(section)]
 
 
 def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
@@ -71,10 +76,8 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
     `payload_runs.METRICS`, ``on_fraction`` and ``c_on`` (N s m-1), each (law,); {} without laws. `setup`: the
     payload comparison's (section, gimbal, gains, lever, camera)."""
     s = setup.section
-    names, c_off = law_names(s), min(s.damping)
-    rows = []
-    for name in names:
-        c_on = float(name.removeprefix("skyhook_"))
+    c_off, rows = min(s.damping), []
+    for c_on in law_c_on(s):
         body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off)
         errors = s.gimbal.sensor_errors
         series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)

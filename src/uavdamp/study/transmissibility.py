@@ -26,7 +26,6 @@ from uavdamp.study import payload_runs as runs
 FREQ_HZ = np.geomspace(0.5, 200.0, 241)  # Hz, the curves' grid (choice: 120 points a decade from 0.5 Hz)
 CARRIED = ("fixed", "gimbal")  # a camera fixed to the mount's body; the stabilised gimbal on it
 DIRECTIONS = ("x", "y", "z")  # the mount's translations
-G = 9.80665  # m s-2, one g (the unit the bottom row is read in)
 
 
 def body_motion(isolator, freq_hz: np.ndarray) -> np.ndarray:
