@@ -12,6 +12,7 @@ from uavdamp.benchmark import scenarios
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.linear_plant import LinearPlant
 from uavdamp.settings import ConfigError, parse
+from uavdamp.sources import stated
 
 CONFIG = typed_config("quick.yaml")
 BENCH = CONFIG.benchmark
@@ -88,6 +89,16 @@ def test_scenario_names_and_synthetic_inputs(params):
         parse(scenarios.Synthetic, {"name": "x", "kind": "noise"}, "benchmark.synthetic[0]")
     with pytest.raises(ConfigError, match=r"benchmark.synthetic\[0\].seed: kind 'random' takes"):
         parse(scenarios.Synthetic, {"name": "x", "kind": "random", "band_hz": [4.0, 9.0]}, "benchmark.synthetic[0]")
+    with pytest.raises(ConfigError, match=r"benchmark.synthetic\[0\].band_hz: need 0 < low < high"):
+        parse(
+            scenarios.Synthetic,
+            {"name": "x", "kind": "random", "band_hz": [9.0, 4.0], "seed": 1},
+            "benchmark.synthetic[0]",
+        )
+    source = parse(scenarios.Synthetic, {"name": "x", "kind": "tones", "freq_y_hz": [5.0], "freq_z_hz": [7.0]}, "s")
+    assert source.source(2e-3) == stated.StatedSource(
+        kind="tones", amplitude_m=2e-3, freq_y_hz=(5.0,), freq_z_hz=(7.0,)
+    )
 
 
 def test_tuning_never_sees_an_evaluation_scenario(monkeypatch, inputs, params, options):

@@ -12,10 +12,9 @@ release, pilot), with the imbalanced blade's mass factor, both rotor speeds scal
 `omega_rad_s`; the tail rotor at its `omega_running_rad_s` when on, stopped when off), then
 `uavdamp.sources.excitation.cases_dataset`: high-passed and each axis's dominant line scaled to amplitude_m (per_axis,
 as the study's case 1). Measured flights (``benchmark.flight_logs``, kind "flight_log"): a window of a configured log,
-as measured (`uavdamp.sources.excitation.case_input`). Synthetic kinds (choices): "sweep", a linear chirp of amplitude_m
-over `freq_hz` (y upwards, z downwards); "tones", two sines per axis of amplitude_m each (`freq_y_hz`,
-`freq_z_hz`); "random", white noise from a seeded `numpy.random.Generator` band-passed (4th-order Butterworth, zero
-phase) to `band_hz`, each axis scaled to the RMS of a sine of amplitude_m.
+as measured (`uavdamp.sources.excitation.case_input`, the study's `Case`). Synthetic entries are named uses of
+the stated sources' kinds sweep, tones and random at amplitude_m (`uavdamp.sources.stated`: their keys, rules and
+generator), and ``benchmark.sources`` names stated sources taken as stated: one source system for both experiments.
 """
 
 from __future__ import annotations
@@ -36,7 +35,6 @@ from uavdamp.sources.excitation import MOTIONS, Case, case_input
 KINDS = ("helicopter", *stated.SYNTHETIC, "flight_log", "source")
 _ATTRS = {"units": "m", "long_name": "translation of the platform mount (input), inertial frame"}
 _ROTATION_ATTRS = {"units": "rad", "long_name": "rotation vector of the platform mount (input), inertial frame"}
-_NEEDS = {"sweep": ("freq_hz",), "tones": ("freq_y_hz", "freq_z_hz"), "random": ("band_hz", "seed")}
 _W = "benchmark."
 
 
@@ -64,7 +62,8 @@ class HelicopterScenarios:
 
 @dataclass(frozen=True)
 class Synthetic:
-    """A synthetic scenario (an entry of ``benchmark.synthetic``): sweep, tones or random, with its own keys."""
+    """A synthetic scenario (an entry of ``benchmark.synthetic``): a named use of a stated source of kind sweep,
+    tones or random (`uavdamp.sources.stated.StatedSource`: its rules, its generator) at benchmark.amplitude_m."""
 
     name: str = setting()
     kind: str = setting()
@@ -74,27 +73,35 @@ class Synthetic:
     band_hz: tuple[float, ...] | None = setting(default=None)  # Hz, random: band-pass [low, high]
     seed: int | None = setting(default=None)  # random: seed of the generator
 
+    def source(self, amplitude_m: float) -> stated.StatedSource:
+        """The stated source this scenario uses, at `amplitude_m` m."""
+        keys = {k: getattr(self, k) for k in ("freq_hz", "freq_y_hz", "freq_z_hz", "band_hz", "seed")}
+        return stated.StatedSource(kind=self.kind, amplitude_m=amplitude_m, **keys)
+
     def validate(self, where: str) -> None:
         ok = self.kind in stated.SYNTHETIC
         require(ok, f"{where}.kind", f"must be one of {list(stated.SYNTHETIC)}, got {self.kind!r}")
+        takes = self._keys()
         for key in ("freq_hz", "freq_y_hz", "freq_z_hz", "band_hz", "seed"):
             given = getattr(self, key) is not None
             require(
-                given == (key in _NEEDS[self.kind]), f"{where}.{key}", f"kind {self.kind!r} takes {_NEEDS[self.kind]}"
+                given == (key in takes),
+                f"{where}.{key}",
+                f"kind {self.kind!r} takes {takes} (amplitude: {_W}amplitude_m)",
             )
-        for key in ("freq_hz", "band_hz"):
-            values = getattr(self, key)
-            if values is not None:
-                require(
-                    len(values) == 2 and 0 < values[0] < values[1],
-                    f"{where}.{key}",
-                    f"need 0 < low < high, got {list(values)}",
-                )
+        self.source(1.0).validate(where)  # the ranges: the stated source's own rules
+
+    def _keys(self) -> list[str]:
+        """The keys the kind takes here: the stated source's (`stated.KINDS`) but its amplitude."""
+        return [k for k in stated.KINDS[self.kind] if k != "amplitude_m"]
 
     def spec(self) -> dict:
         """{"kind": ..., and the kind's keys}."""
-        values = {key: getattr(self, key) for key in _NEEDS[self.kind]}
-        return {"kind": self.kind, **{k: list(v) if isinstance(v, tuple) else v for k, v in values.items()}}
+        return {"kind": self.kind, **{k: _plain(getattr(self, k)) for k in self._keys()}}
+
+
+def _plain(value):
+    return list(value) if isinstance(value, tuple) else value
 
 
 @dataclass(frozen=True)
