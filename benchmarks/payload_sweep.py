@@ -1,7 +1,8 @@
 """The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
-accelerometer range, its rate-loop crossover, a camera imbalance, and the six-axis isolator's stiffness (its modes).
+accelerometer range, its rate-loop crossover, a camera imbalance, the six-axis isolator's stiffness (its modes), and
+the camera's and the isolated plate's masses.
 
-    python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc]
+    python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc] [--only TEXT ...]
 
 Reads the merged config files (default config/config.yaml) and the study's cases written by a run of `all`; for
 each variant prints the gimbal's line-of-sight rms (µrad) per input on the rigid mount and on each isolator at its
@@ -74,6 +75,10 @@ def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
     out["six-axis stiffness / 4 (modes / 2)"] = dataclasses.replace(
         section, six_axis=dataclasses.replace(six, stiffness=soft)
     )
+    for factor, label in ((0.5, "/ 2"), (2.0, "x 2")):  # the masses: choices (the gains are designed for each)
+        out[f"camera mass {label} ({g.camera_mass * factor:g} kg)"] = gimbal(camera_mass=g.camera_mass * factor)
+        plate = dataclasses.replace(six, plate_mass=six.plate_mass * factor)
+        out[f"plate mass {label} ({six.plate_mass * factor:g} kg)"] = dataclasses.replace(section, six_axis=plate)
     return out
 
 
@@ -82,10 +87,12 @@ def main() -> None:
     parser.add_argument("configs", nargs="*", default=["config/config.yaml"])
     parser.add_argument("--cases", default="reports/excitation/cases.nc")
     parser.add_argument("--rest", action="store_true", help="the baseline and the later half of the variants only")
+    parser.add_argument("--only", action="append", default=[], help="the baseline and the variants naming this")
     args = parser.parse_args()
     config = merged(args.configs)
-    base = dataclasses.replace(parse(payload.PayloadSection, config["payload"], "payload"), payloads=("gimbal",))
     platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
+    base = parse(payload.PayloadSection, config["payload"], "payload").with_camera(platform.structure)
+    base = dataclasses.replace(base, payloads=("gimbal",))
     camera = parse(CameraModel, config["camera"], "camera")
     sources = {n: parse(StatedSource, config["sources"][n], f"sources.{n}") for n in base.sources}
     cases = io.open_dataset(args.cases)
@@ -93,7 +100,10 @@ def main() -> None:
     mounts = [m for m in base.mounts if m != "rigid"]
     head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "s"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
-    for name, section in variants(base, args.rest).items():
+    chosen = variants(base, args.rest)
+    if args.only:
+        chosen = {k: v for k, v in chosen.items() if k.startswith("baseline") or any(o in k for o in args.only)}
+    for name, section in chosen.items():
         start = time.perf_counter()
         ds = payload.compare_inputs(found, section, platform, camera)
         took = time.perf_counter() - start

@@ -127,6 +127,24 @@ def test_design_dataset_holds_the_modes_and_the_loops():
     _assert_metadata(ds)
 
 
+def test_the_gimbal_carries_the_platforms_camera():
+    """One camera on every payload: `with_camera` gives the gimbal the platform's camera mass, which moves the
+    isolated payload's mass one for one (0.9 + 0.3 + 0.3 = 1.5 kg; a 1.8 kg camera: 2.4 kg) and the six-axis
+    vertical mode to sqrt(4 k_z / m) / 2 pi (closed form); the camera is not a payload key (seen failing with
+    `with_camera` returning the section unchanged: 1.5 kg)."""
+    camera = PLATFORM.structure
+    section = _section().with_camera(camera)
+    assert (gimbal_params(section).camera_mass, gimbal_params(section).camera_size) == (0.9, (0.10, 0.06, 0.06))
+    heavy = _section().with_camera(dataclasses.replace(camera, camera_mass=1.8))
+    assert gimbal_params(heavy).camera_mass == 1.8
+    six = design_dataset(heavy).sel(mount="six_axis")
+    assert six.attrs["gimbal_payload_mass_kg"] == pytest.approx(2.4, rel=1e-12)
+    vertical = float(six.mode_frequency[list(six.mode_dofs.values).index("z")])
+    assert vertical == pytest.approx(math.sqrt(2000.0 / 2.4) / (2 * math.pi), rel=1e-9)
+    with pytest.raises(ConfigError, match="camera_mass"):
+        _section(gimbal={"camera_mass_kg": 1.8})
+
+
 @pytest.mark.parametrize(
     "keys, where",
     [

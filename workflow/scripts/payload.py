@@ -12,8 +12,9 @@ from uavdamp.study import payload, payload_design
 workflow.start_log(snakemake.log[0])
 job = integrity.Job(snakemake)  # inputs of this plan's config only; outputs stamped with it
 p = snakemake.params
-section = parse(payload.PayloadSection, {**p.payload, "threads": snakemake.threads}, "payload")
 platform = parse(PlatformParams, p.platform, "platform")
+section = parse(payload.PayloadSection, {**p.payload, "threads": snakemake.threads}, "payload")
+section = section.with_camera(platform.structure)  # the one camera every payload carries
 camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}
 cases = io.open_dataset(snakemake.input.cases)

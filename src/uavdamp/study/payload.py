@@ -11,7 +11,8 @@ study's cases and the stated sources ``payload.sources`` names (`inputs`, `compa
 
 Choices and assumptions:
 - The gimbal's moving mass besides the camera (brackets, motors) is `MECHANISM_MASS_KG` (choice); the isolated
-  payload is camera + mechanism + plate (``six_axis.plate_mass_kg``): 0.9 + 0.3 + 0.3 = 1.5 kg by default, its
+  payload is camera (the platform's, ``platform.structure``: one camera on every payload) + mechanism + plate
+  (``six_axis.plate_mass_kg``): 0.9 + 0.3 + 0.3 = 1.5 kg by default, its
   centre of mass ``com_height_m`` above the elements' plane, the plate (a thin square of side 2 ``half_spacing_m``)
   in that plane and the gimbal's axes (the balanced camera's centre of mass, the optical centre) above it at the
   height that puts the whole centre of mass there (`gimbal_height`: 0.075 m by default). The same point carries
@@ -49,7 +50,7 @@ from uavdamp.platform.gimbal import GimbalParams, design
 from uavdamp.platform.imu import STANDARD_GRAVITY, ImuParams
 from uavdamp.platform.plants import Plants
 from uavdamp.platform.six_axis import KINDS
-from uavdamp.settings import ConfigError, require, setting
+from uavdamp.settings import ConfigError, attached, require, setting
 from uavdamp.sources.excitation import case_motion
 from uavdamp.sources.stated import StatedSource, motion
 from uavdamp.study import payload_laws as laws
@@ -86,6 +87,8 @@ class GimbalSection:
     # Hz, the complementary filter's crossover (accelerometer below, gyro above): BruGi's 7 s by default
     estimator_crossover_hz: float = setting(default=1.0 / (2 * math.pi * 7.0))
     accel_range_g: float = setting(default=2.0)  # g, the IMU accelerometer's full scale +/-
+    camera_mass: float = attached(0.9)  # kg, the platform's camera (platform.structure): `with_camera`
+    camera_size: tuple[float, ...] = attached((0.10, 0.06, 0.06))  # m, its box's x, y, z edges, the same
 
     def params(self) -> GimbalParams:
         """The `GimbalParams` of this section (its own checks)."""
@@ -100,6 +103,8 @@ class GimbalSection:
             imbalance_m=tuple(self.imbalance_m),
             estimator_crossover_hz=self.estimator_crossover_hz,
             imu=ImuParams(accel_range=self.accel_range_g * STANDARD_GRAVITY),
+            camera_mass=self.camera_mass,
+            camera_size=tuple(self.camera_size),
         )
 
     def validate(self, where: str) -> None:
@@ -142,6 +147,12 @@ class PayloadSection:
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
+
+    def with_camera(self, structure) -> PayloadSection:
+        """The section with the gimbal carrying the platform's camera (``platform.structure.camera_mass_kg`` and
+        ``camera_size_m`` of `structure`): one camera on every payload."""
+        camera = {"camera_mass": float(structure.camera_mass), "camera_size": tuple(structure.camera_size)}
+        return dataclasses.replace(self, gimbal=dataclasses.replace(self.gimbal, **camera))
 
     def validate(self) -> None:
         w = "payload."
