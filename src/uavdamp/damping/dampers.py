@@ -220,69 +220,88 @@ class SpencerMR:
 
     def step(self, h: float, voltage, x0, xd0, x1=None, xd1=None) -> np.ndarray:
         """Advance y, z, u over a step h (s) with the command `voltage` (V, held) and the stroke x (m) and rate
-        x' (m s-1) at the step's start (x0, xd0) and end (x1, xd1; None: x' held, x linear); F (N) at the end."""
+        x' (m s-1) at the step's start (x0, xd0) and end (x1, xd1; None: x' held, x linear); F (N) at the end.
+        Each axis is advanced on its own in Python floats (`_advance`: the axes do not interact)."""
         if not h > 0:
             raise ValueError(f"time step: must be > 0, got {h}")
         if (x1 is None) != (xd1 is None):
             raise ValueError("give both the stroke and its rate at the step's end, or neither")
-        x0, xd0 = np.asarray(x0, float), np.asarray(xd0, float)
+        n = self.n_axes
+        x0, xd0, v = _per_axis(x0, n), _per_axis(xd0, n), _per_axis(voltage, n)
         if x1 is None:
-            x1, xd1 = x0 + h * xd0, xd0
-        x1, xd1 = np.asarray(x1, float), np.asarray(xd1, float)
+            x1, xd1 = [a + h * b for a, b in zip(x0, xd0, strict=True)], xd0
+        else:
+            x1, xd1 = _per_axis(x1, n), _per_axis(xd1, n)
         n_sub = max(1, math.ceil(h / self.max_substep - 1e-9))
-        dt = h / n_sub
-        v = np.asarray(voltage, float)
-        decay = math.exp(-self.params.eta * dt)
-        f_start = self.force(x0, xd0)
-        total = 0.5 * f_start
-        for k in range(n_sub):
-            self._substep(dt, v, decay, k / n_sub, h, (x0, xd0, x1, xd1), n_sub)
-            xe, xde = _hermite((k + 1) / n_sub, h, x0, xd0, x1, xd1)
-            f_end = self.force(xe, xde)
-            total = total + (f_end if k < n_sub - 1 else 0.5 * f_end)
-        self.force_mean = total / n_sub
+        f_end, mean = np.empty(n), np.empty(n)
+        for i in range(n):
+            state = (float(self.y[i]), float(self.z[i]), float(self.u[i]))
+            stroke = (x0[i], xd0[i], x1[i], xd1[i])
+            (self.y[i], self.z[i], self.u[i]), f_end[i], mean[i] = _advance(self.params, state, v[i], h, n_sub, stroke)
+        self.force_mean = mean
         return f_end
 
-    def _substep(self, dt: float, v, decay: float, s0: float, h: float, stroke, n_sub: int) -> None:
-        """One SDIRK sub-step of (y, z) from the step fraction s0, the exact filter for u."""
-        g = _SDIRK
-        u_start = self.u
-        y0, z0 = self.y, self.z
 
-        def at(c):  # stage inputs at the sub-step fraction c: stroke, rate, filtered command
-            x, xd = _hermite(s0 + c / n_sub, h, *stroke)
-            return x, xd, v + (u_start - v) * math.exp(-self.params.eta * c * dt)
+def _per_axis(value, n: int) -> list[float]:
+    """A scalar or an (n,) array as n Python floats."""
+    values = np.asarray(value, float)
+    return [float(values)] * n if values.ndim == 0 else values.reshape(n).tolist()
 
-        a = g * dt
-        y1, z1 = self._solve_stage(y0, z0, a, *at(g))
-        ky, kz = (y1 - y0) / a, (z1 - z0) / a
-        y2, z2 = self._solve_stage(y0 + (1 - g) * dt * ky, z0 + (1 - g) * dt * kz, a, *at(1.0))
-        self.y, self.z = y2, z2
-        self.u = v + (u_start - v) * decay
 
-    def _solve_stage(self, r_y, r_z, a: float, x, xd, u, tol: float = 1e-13, max_iter: int = 30):
-        """(y, z) with (y, z) = (r_y, r_z) + a (y', z')(x, x', u, y, z): y = p + a m z eliminated, Newton in z."""
-        prm = self.params
-        alpha, c0, c1 = prm.coefficients(u)
-        den = c0 + c1 + a * prm.k0
-        m = alpha / den
-        p = ((c0 + c1) * r_y + a * (c0 * xd + prm.k0 * x)) / den
-        w0 = xd - (p - r_y) / a  # x' - y' = w0 - m z
-        n, gam, bet, big_a = prm.n, prm.gamma, prm.beta, prm.A
-        z = np.array(r_z, float)
-        scale = tol * prm.z_max
-        for _ in range(max_iter):
-            w = w0 - m * z
-            az = np.abs(z)
-            zn1 = az ** (n - 1)
-            g = big_a * w - gam * np.abs(w) * z * zn1 - bet * w * az * zn1
-            dg_dz = -n * zn1 * (gam * np.abs(w) + bet * w * np.sign(z))
-            dg_dw = big_a - gam * np.sign(w) * z * zn1 - bet * az * zn1
-            step = (z - r_z - a * g) / (1.0 - a * (dg_dz - m * dg_dw))
-            z = z - step
-            if np.all(np.abs(step) <= scale):
-                return p + a * m * z, z
-        raise SolverFailed(f"Spencer MR damper: Newton did not converge in {max_iter} iterations (|dz| = {step})")
+def _sign(value: float) -> float:
+    """-1, 0 or 1 (numpy.sign of a float)."""
+    return 1.0 if value > 0 else (-1.0 if value < 0 else 0.0)
+
+
+def _force(p: SpencerParams, y: float, z: float, u: float, x: float, xd: float) -> float:
+    """F (N) of one axis at the states (y m, z m, u V) for the stroke x (m) and rate xd (m s-1)."""
+    alpha, c0, c1 = p.coefficients(u)
+    return c1 * (alpha * z + c0 * xd + p.k0 * (x - y)) / (c0 + c1) + p.k1 * (x - p.x0)
+
+
+def _advance(p: SpencerParams, state, v: float, h: float, n_sub: int, stroke):
+    """One axis over a step h in n_sub SDIRK sub-steps (module docstring): ((y, z, u) at its end, F at its end,
+    F averaged over it by the trapezoidal rule on the sub-steps)."""
+    y, z, u = state
+    dt, g = h / n_sub, _SDIRK
+    a, decay, decay_g = g * dt, math.exp(-p.eta * dt), math.exp(-p.eta * g * dt)
+    total = 0.5 * _force(p, y, z, u, stroke[0], stroke[1])
+    for k in range(n_sub):
+        s0 = k / n_sub
+        x, xd = _hermite(s0 + g / n_sub, h, *stroke)
+        y1, z1 = _solve_stage(p, y, z, a, x, xd, v + (u - v) * decay_g)
+        ky, kz = (y1 - y) / a, (z1 - z) / a
+        x, xd = _hermite(s0 + 1.0 / n_sub, h, *stroke)
+        u = v + (u - v) * decay
+        y, z = _solve_stage(p, y + (1 - g) * dt * ky, z + (1 - g) * dt * kz, a, x, xd, u)
+        xe, xde = _hermite((k + 1) / n_sub, h, *stroke)
+        f_end = _force(p, y, z, u, xe, xde)
+        total += f_end if k < n_sub - 1 else 0.5 * f_end
+    return (y, z, u), f_end, total / n_sub
+
+
+def _solve_stage(p: SpencerParams, r_y: float, r_z: float, a: float, x: float, xd: float, u: float,
+                 tol: float = 1e-13, max_iter: int = 30) -> tuple[float, float]:  # fmt: skip
+    """(y, z) with (y, z) = (r_y, r_z) + a (y', z')(x, x', u, y, z): y = q + a m z eliminated, Newton in z."""
+    alpha, c0, c1 = p.coefficients(u)
+    den = c0 + c1 + a * p.k0
+    m = alpha / den
+    q = ((c0 + c1) * r_y + a * (c0 * xd + p.k0 * x)) / den
+    w0 = xd - (q - r_y) / a  # x' - y' = w0 - m z
+    n, gam, bet, big_a = p.n, p.gamma, p.beta, p.A
+    z, scale = r_z, tol * p.z_max
+    for _ in range(max_iter):
+        w = w0 - m * z
+        az = abs(z)
+        zn1 = az ** (n - 1)
+        g = big_a * w - gam * abs(w) * z * zn1 - bet * w * az * zn1
+        dg_dz = -n * zn1 * (gam * abs(w) + bet * w * _sign(z))
+        dg_dw = big_a - gam * _sign(w) * z * zn1 - bet * az * zn1
+        step = (z - r_z - a * g) / (1.0 - a * (dg_dz - m * dg_dw))
+        z -= step
+        if abs(step) <= scale:
+            return q + a * m * z, z
+    raise SolverFailed(f"Spencer MR damper: Newton did not converge in {max_iter} iterations (|dz| = {abs(step):.3g})")
 
 
 def _settled_loop(params: SpencerParams, voltage: float, velocity: float, frequency: float, cycles: int, n: int):
