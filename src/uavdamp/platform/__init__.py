@@ -16,6 +16,7 @@ imu           the gimbal's IMU and its complementary filter
 gimbal        the gyro-stabilised gimbal: parameters, axis plant, closed-form cascade gains
 gimbal_loop   the gimbal's discrete loop in closed form: margins, sensitivity, base to line of sight
 gimbal_sim    the stabilised gimbal on a moving base in the time domain
+gimbal_exudyn  the same gimbal as a nested three-body mechanism in Exudyn (the time-domain run's check)
 """
 
 from uavdamp.platform.design import design_stiffness, mass_matrix

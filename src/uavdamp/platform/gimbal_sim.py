@@ -31,7 +31,7 @@ from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, rea
 from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
 
 
-def _grid(time: np.ndarray, period: float, series: dict[str, np.ndarray]) -> tuple[float, int]:
+def loop_grid(time: np.ndarray, period: float, series: dict[str, np.ndarray]) -> tuple[float, int]:
     """(step h s, steps per loop period) of a uniform grid; ValueError naming the bad input."""
     t = np.asarray(time, dtype=float)
     if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)):
@@ -105,7 +105,7 @@ def simulate(
     `time` (s; the loop period a whole multiple of its step). gains: default `design(p)`; sensor_errors False:
     the IMU without noise, bias and quantisation; rng: the noise's generator (default seed 0)."""
     rotation, rate, acceleration = (np.asarray(x, dtype=float) for x in (rotation, rate, acceleration))
-    h, m = _grid(time, p.period, {"rotation": rotation, "rate": rate, "acceleration": acceleration})
+    h, m = loop_grid(time, p.period, {"rotation": rotation, "rate": rate, "acceleration": acceleration})
     gains = design(p) if gains is None else gains
     imu = p.imu if sensor_errors else p.imu.noiseless()
     rng = np.random.default_rng(0) if rng is None else rng
@@ -150,22 +150,31 @@ def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarra
         else:
             f_lat = read_scalar(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
             tilt = math.atan2(f_lat, f_z[k]) if axis == "roll" else math.atan2(-f_lat, f_z[k])
-        estimate = g.estimator.update(estimate, float(gyro), tilt)
-        error = -g.ka * estimate - float(gyro)
-        candidate = integral + g.ki * period * error
-        demand = g.kp * error + candidate
-        saturated = abs(demand) > limit
-        if not saturated:
-            integral = candidate
-        applied = min(max(demand, -limit), limit)  # from the next sample on (computation delay)
-        flags[k] = saturated
+        estimate, integral, applied, saturated = cascade_step(g, estimate, integral, float(gyro), tilt, limit, period)
+        flags[k] = saturated  # applied: from the next sample on (computation delay)
         est_out[k] = estimate
         z = coarse.phi @ z + coarse.gamma_u[:, 0] * held[k]
     # the flag belongs to the period its torque acts in: the demand computed at k acts over period k + 1
     return held, np.concatenate([[False], flags[:-1]]), est_out
 
 
-_VARIABLES = {
+def cascade_step(
+    g: AxisGains, estimate: float, integral: float, gyro: float, tilt: float, limit: float, period: float
+) -> tuple[float, float, float, bool]:
+    """One loop sample of an axis's cascade from its readings (gyro rad s-1, accelerometer tilt rad): the
+    estimate updated, the attitude P and the rate PI, the integral held while the demand saturates; returns
+    (estimate rad, integral N m, the demand clipped to +/- limit N m, saturated). Period s."""
+    estimate = g.estimator.update(estimate, gyro, tilt)
+    error = -g.ka * estimate - gyro
+    candidate = integral + g.ki * period * error
+    demand = g.kp * error + candidate
+    saturated = abs(demand) > limit
+    if not saturated:
+        integral = candidate
+    return estimate, integral, min(max(demand, -limit), limit), saturated
+
+
+VARIABLES = {  # name: (units, long_name) of a run's outputs (the Exudyn check's too)
     "line_of_sight": ("rad", "camera's inertial attitude about the axis (line of sight)"),
     "motor_torque": ("N m", "motor torque applied (zero-order hold over the loop period)"),
     "attitude_estimate": ("rad", "complementary filter's attitude estimate (held over the loop period)"),
@@ -176,12 +185,12 @@ _VARIABLES = {
 def _dataset(p: GimbalParams, time: np.ndarray, axes, out: dict, m: int) -> xr.Dataset:
     flags = out.pop("saturated").astype(bool)
     data = {
-        k: (("axis", "time"), v, dict(zip(("units", "long_name"), _VARIABLES[k], strict=True))) for k, v in out.items()
+        k: (("axis", "time"), v, dict(zip(("units", "long_name"), VARIABLES[k], strict=True))) for k, v in out.items()
     }
     data["torque_saturated"] = (
         ("axis", "time"),
         flags.astype(np.int8),
-        {"units": "1", "long_name": _VARIABLES["torque_saturated"][1]},
+        {"units": "1", "long_name": VARIABLES["torque_saturated"][1]},
     )
     data["saturation_count"] = (
         ("axis",),
