@@ -1,12 +1,13 @@
 """The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
-accelerometer range, its rate-loop crossover, a camera imbalance, the six-axis isolator's stiffness (its modes), and
-the camera's and the isolated plate's masses.
+accelerometer range, its rate-loop crossover, a camera imbalance, the six-axis isolator's stiffness (its modes), the
+camera's and the isolated plate's masses, and the skyhook runs' damper lag.
 
     python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc] [--only TEXT ...]
 
 Reads the merged config files (default config/config.yaml) and the study's cases written by a run of `all`; for
 each variant prints the gimbal's line-of-sight rms (µrad) per input on the rigid mount and on each isolator at its
-best constant damping (and that C), as a Markdown table. The numbers in docs/stages/payload.md come from it.
+best constant damping (and that C), and under on-off skyhook on the six-axis isolator at its best c_on, as a Markdown
+table. The numbers in docs/stages/payload.md come from it.
 """
 
 from __future__ import annotations
@@ -75,6 +76,8 @@ def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
     out["six-axis stiffness / 4 (modes / 2)"] = dataclasses.replace(
         section, six_axis=dataclasses.replace(six, stiffness=soft)
     )
+    for lag in (0.01, 0.03):  # the skyhook runs' damper: an MR damper's response time is 10-30 ms (assumption)
+        out[f"skyhook damper lag {lag * 1e3:g} ms"] = dataclasses.replace(section, skyhook_lag=lag)
     for factor, label in ((0.5, "/ 2"), (2.0, "x 2")):  # the masses: choices (the gains are designed for each)
         out[f"camera mass {label} ({g.camera_mass * factor:g} kg)"] = gimbal(camera_mass=g.camera_mass * factor)
         plate = dataclasses.replace(six, plate_mass=six.plate_mass * factor)
@@ -98,7 +101,7 @@ def main() -> None:
     cases = io.open_dataset(args.cases)
     found = payload.inputs(cases, sources, base)
     mounts = [m for m in base.mounts if m != "rigid"]
-    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "s"]
+    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "six_axis skyhook (best c_on)", "s"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
     chosen = variants(base, args.rest)
     if args.only:
@@ -113,6 +116,11 @@ def main() -> None:
             for m in mounts:
                 best = float(ds.best_damping.sel(input=i, payload="gimbal", mount=m))
                 cells.append(f"{float(los.sel(mount=m, damping=best)):.0f} ({best:g})")
+            if "law_los_std" in ds:
+                law = ds.law_los_std.sel(input=i).values * URAD
+                c_on = ds.law_c_on.sel(input=i).values if "input" in ds.law_c_on.dims else ds.law_c_on.values
+                best = int(np.argmin(law))
+                cells.append(f"{law[best]:.0f} ({c_on[best]:g})")
             print(f"| {name} | {i} | " + " | ".join(cells) + f" | {took:.0f} |")
 
 

@@ -80,3 +80,40 @@ def test_skyhook_damps_the_resonance_and_passes_high_frequencies_as_its_off_stat
 def test_the_law_runs_are_named_by_their_on_damping_above_the_least_candidate():
     assert laws.law_names(SECTION) == [f"skyhook_{c:g}" for c in sorted(SECTION.damping)[1:]]
     assert laws.law_names(_section(mounts=["rigid", "yz"])) == []
+
+
+class _Step:
+    """A law whose demand steps from 1 to 31 N s/m at the 10th call (each element alike)."""
+
+    def __init__(self):
+        self.calls = 0
+
+    def decide(self, v_abs, v_rel) -> float:
+        self.calls += 1
+        return 1.0 if self.calls <= 10 * 4 else 31.0  # four elements a sample
+
+
+@pytest.mark.parametrize("lag_s", [0.0, 2e-3, 2e-2])
+def test_a_lagged_damper_follows_a_step_of_the_demand_as_a_first_order_lag(lag_s):
+    """The schedule's C per step is the mean over the step of C(t) = d + (C0 - d) exp(-t / lag) (closed form, the
+    demand d held over the step), C0 the value the lag reached at the step's start; lag 0: the demand itself (seen
+    failing with the mean replaced by the step's start value: the ideal damper then came one step late)."""
+    isolator = runs.six_axis_isolator(SECTION, 1.0)
+    t = _time(0.02)
+    h = float(t[1] - t[0])
+    decide = laws.skyhook_schedule(isolator, t, np.zeros((t.size, 6)), _Step(), lag_s)
+    outputs = np.zeros(6 + 6 * isolator.n_elements)
+    got = np.array([decide(float(tk), outputs)[0] for tk in t[:30]])
+    expected, c = [], 1.0
+    for k in range(30):
+        d = 1.0 if k < 10 else 31.0
+        if lag_s == 0:
+            expected.append(d)
+            continue
+        # mean of d + (c - d) exp(-s / lag) over s in [0, h], then c at the step's end
+        expected.append(d + (c - d) * lag_s / h * (1 - np.exp(-h / lag_s)))
+        c = d + (c - d) * np.exp(-h / lag_s)
+    np.testing.assert_allclose(got, expected, rtol=1e-12)
+    if lag_s > 0:  # explicitly: 19 steps after the step the start is 31 - 30 exp(-19 h / lag)
+        start_distance = 30.0 * np.exp(-19 * h / lag_s)
+        assert got[29] == pytest.approx(31.0 - start_distance * lag_s / h * (1 - np.exp(-h / lag_s)), rel=1e-12)

@@ -143,6 +143,7 @@ class PayloadSection:
     yz_stiffness: float = setting("yz_stiffness_n_m", default=1000.0)  # N m-1, K of the Y-Z isolator
     damping: tuple[float, ...] = setting("damping_n_s_m", default=(1.0, 3.0, 10.0, 30.0, 100.0))  # N s m-1
     seed: int = setting(default=0)  # the gimbal IMU's noise
+    skyhook_lag: float = setting("skyhook_lag_s", default=0.0)  # s, the skyhook damper's lag (0: ideal; choice)
     threads: int = setting(default=1)  # joblib workers over the inputs (the rule's threads; not in the results)
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
@@ -167,6 +168,7 @@ class PayloadSection:
         ok = self.time_step_s > 0 and is_multiple(period, self.time_step_s)
         require(ok, w + "time_step_s", f"({self.time_step_s} s) must divide the gimbal loop period {period} s")
         require(self.yz_stiffness > 0, w + "yz_stiffness_n_m", f"must be > 0, got {self.yz_stiffness}")
+        require(self.skyhook_lag >= 0, w + "skyhook_lag_s", f"must be >= 0, got {self.skyhook_lag}")
         c = self.damping
         ok = len(c) > 0 and len(set(c)) == len(c) and min(c) >= 0
         require(ok, w + "damping_n_s_m", f"needs distinct values >= 0 N s m-1, got {list(c)}")

@@ -4,13 +4,15 @@ Karnopp's on-off skyhook (`uavdamp.damping.laws.Skyhook`, the law the study runs
 each semi-active element's damping from that element's own velocities: v_rel its stroke rate (payload minus
 mount at the element, 3 axes) and v_abs = v_rel + the mount's velocity there, c_on when the damper's force
 -C v_rel opposes v_abs (v_abs . v_rel > 0), else c_off; decided at every sample of the run's grid, held over the
-step (`uavdamp.platform.six_axis_run.run`, exact for the held C). The body's motion then feeds the gimbal as in the
+step (`uavdamp.platform.six_axis_run.run`, exact for the held C), through a damper that follows the demand at once
+(``payload.skyhook_lag_s`` 0, the default) or with a first-order lag. The body's motion then feeds the gimbal as in the
 constant runs (`uavdamp.study.payload_runs`): coordinates and rates from the run's states, accelerations their
 central differences.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -22,38 +24,49 @@ from uavdamp.platform.six_axis_run import run
 from uavdamp.study.payload_runs import BodyMotion, gimbal_series, metric_attrs, run_metrics, six_axis_isolator
 
 
-def skyhook_schedule(isolator: SixAxisIsolator, time: np.ndarray, mount_rates: np.ndarray, law: Skyhook) -> Callable:
+def skyhook_schedule(
+    isolator: SixAxisIsolator, time: np.ndarray, mount_rates: np.ndarray, law: Skyhook, lag_s: float = 0.0
+) -> Callable:
     """The callable schedule (t_k, outputs_k) -> C per semi-active element (N s m-1) of `six_axis_run.run`:
     `law.decide(v_abs, v_rel)` per element, mount_rates (n, 6) the mount's rates at the samples as the run takes
-    them (the slope of the step that starts there)."""
+    them (the slope of the step that starts there). lag_s > 0: the damper's C follows the demand d_k (held over
+    the step from t_k) with a first-order lag of that time constant, C(t_k+1) = d_k + (C(t_k) - d_k) e, e =
+    exp(-h / lag_s), exactly; the run holds each step's mean, d_k + (C(t_k) - d_k) (1 - e) lag_s / h (choice: the
+    step's damping impulse), which is d_k for lag_s 0. The damper starts settled on the first demand."""
     n_el, t0, h = isolator.n_elements, float(time[0]), float(time[1] - time[0])
     at_elements = strokes_matrix(isolator)  # (3 n_el, 6): a 6-DOF motion's translation at each element
+    decay = math.exp(-h / lag_s) if lag_s > 0 else 0.0
+    mean_share = (1.0 - decay) * lag_s / h if lag_s > 0 else 0.0  # of the start's distance to the demand
+    state: dict[str, np.ndarray] = {}
 
     def decide(t_k: float, outputs: np.ndarray) -> np.ndarray:
         k = int(round((t_k - t0) / h))
         v_rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)
         v_abs = v_rel + (at_elements @ mount_rates[k]).reshape(n_el, 3)
-        return np.array([law.decide(v_abs[i], v_rel[i]) for i in isolator.semi_active])
+        demand = np.array([law.decide(v_abs[i], v_rel[i]) for i in isolator.semi_active])
+        start = state.get("c", demand)  # C(t_k); the first sample: settled on its demand
+        state["c"] = demand + (start - demand) * decay
+        return demand + (start - demand) * mean_share
 
     return decide
 
 
 def skyhook_motion(
-    isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_on: float, c_off: float
+    isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_on: float, c_off: float, lag_s: float = 0.0
 ) -> tuple[BodyMotion, float]:
-    """(the payload's motion under on-off skyhook between c_on and c_off N s m-1, the share of element-steps
-    at c_on)."""
+    """(the payload's motion under on-off skyhook between c_on and c_off N s m-1 through a damper of lag lag_s s
+    (`skyhook_schedule`), the share of element-steps whose applied C is nearer c_on than c_off)."""
     h = float(time[1] - time[0])
     u = np.vstack([np.asarray(mount.translation, dtype=float), np.asarray(mount.rotation, dtype=float)])
     slopes = np.diff(u, axis=1) / h
     rates = np.hstack([slopes, slopes[:, -1:]]).T  # (n, 6), as `run` takes them
     law = Skyhook(c_on, c_off, h)
-    ds = run(isolator, time, u[:3], u[3:], skyhook_schedule(isolator, time, rates, law))
+    ds = run(isolator, time, u[:3], u[3:], skyhook_schedule(isolator, time, rates, law, lag_s))
     coordinates = np.vstack([ds.payload_translation.values, ds.payload_rotation.values])
     body_rates = np.vstack([ds.payload_velocity.values, ds.payload_angular_rate.values])
     accelerations = np.gradient(body_rates, h, axis=1, edge_order=2)
     peak = float(np.abs(ds.element_stroke.values).max())
-    on = float(np.mean(ds.damping.values[:, :-1] == c_on)) if c_on != c_off else 1.0
+    on = float(np.mean(ds.damping.values[:, :-1] > 0.5 * (c_on + c_off))) if c_on != c_off else 1.0
     return BodyMotion(coordinates, body_rates, accelerations, peak), on
 
 
@@ -78,7 +91,7 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
     s = setup.section
     c_off, rows = min(s.damping), []
     for c_on in law_c_on(s):
-        body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off)
+        body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off, s.skyhook_lag)
         errors = s.gimbal.sensor_errors
         series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
         rows.append(run_metrics(t, series, setup.camera, s.settle_s, s.duration_s) | {"on_fraction": on, "c_on": c_on})
@@ -96,8 +109,9 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
         {"units": "1", "long_name": "share of element-steps at c_on"},
     )
     data["law_c_on"] = (("law",), values["c_on"], {"units": "N s m-1", "long_name": "skyhook's on damping"})
+    lag = f", damper lag {section.skyhook_lag:g} s" if section.skyhook_lag > 0 else ", ideal damper"
     text = (
         "semi-active law on the six-axis isolator's elements, the gimbal on it: on-off skyhook between c_on and "
-        f"c_off {min(section.damping):g} N s m-1"
+        f"c_off {min(section.damping):g} N s m-1{lag}"
     )
     return data, {"law": ("law", law_names(section), {"units": "1", "long_name": text})}
