@@ -65,7 +65,7 @@ from exudyn.itemInterface import (
 from exudyn.utilities import RigidBodyInertia
 
 from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia, design, imbalance_torque
-from uavdamp.platform.gimbal_sim import VARIABLES, cascade_step, loop_grid
+from uavdamp.platform.gimbal_sim import cascade_step, loop_grid, run_dataset
 from uavdamp.platform.imu import lowpass, read_scalar, tilt
 from uavdamp.platform.statespace import StateSpace, discretise
 
@@ -295,19 +295,5 @@ def _control(p: GimbalParams, imu, gains: dict, axes, model: ExudynGimbal, s: di
 
 
 def _dataset(p: GimbalParams, time: np.ndarray, axes, rotvec: np.ndarray, torque: np.ndarray) -> xr.Dataset:
-    rows = [AXES.index(a) for a in axes]
-    data = {
-        name: (("axis", "time"), value, dict(zip(("units", "long_name"), VARIABLES[name], strict=True)))
-        for name, value in (("line_of_sight", rotvec[rows]), ("motor_torque", torque))
-    }
-    coords = {
-        "time": ("time", time, {"units": "s", "long_name": "time"}),
-        "axis": ("axis", list(axes), {"units": "1", "long_name": "stabilised axis (roll x, pitch y, yaw z)"}),
-    }
-    attrs = {
-        "title": "Gyro-stabilised gimbal on a moving base: Exudyn multibody check",
-        "loop_rate_hz": p.loop_rate_hz,
-        "torque_limit_N_m": p.torque_limit,
-        "frame": "inertial: x forward, y left, z up",
-    }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    series = {"line_of_sight": rotvec[[AXES.index(a) for a in axes]], "motor_torque": torque}
+    return run_dataset(p, time, axes, series, "Gyro-stabilised gimbal on a moving base: Exudyn multibody check")

@@ -182,30 +182,28 @@ VARIABLES = {  # name: (units, long_name) of a run's outputs (the Exudyn check's
 }
 
 
-def _dataset(p: GimbalParams, time: np.ndarray, axes, out: dict, m: int) -> xr.Dataset:
-    flags = out.pop("saturated").astype(bool)
+def run_dataset(p: GimbalParams, time: np.ndarray, axes, series: dict, title: str, **attrs) -> xr.Dataset:
+    """A run's dataset: each series (axis, time) with its `VARIABLES` units and long name, the axis and time
+    coordinates, the title, the loop's rate and torque limit and `attrs`."""
     data = {
-        k: (("axis", "time"), v, dict(zip(("units", "long_name"), VARIABLES[k], strict=True))) for k, v in out.items()
+        k: (("axis", "time"), v, dict(zip(("units", "long_name"), VARIABLES[k], strict=True)))
+        for k, v in series.items()
     }
-    data["torque_saturated"] = (
-        ("axis", "time"),
-        flags.astype(np.int8),
-        {"units": "1", "long_name": VARIABLES["torque_saturated"][1]},
-    )
-    data["saturation_count"] = (
-        ("axis",),
-        flags[:, ::m].sum(axis=1),
-        {"units": "1", "long_name": "loop samples whose torque was clipped to the limit"},
-    )
     coords = {
         "time": ("time", time, {"units": "s", "long_name": "time"}),
         "axis": ("axis", list(axes), {"units": "1", "long_name": "stabilised axis (roll x, pitch y, yaw z)"}),
     }
-    attrs = {
-        "title": "Gyro-stabilised gimbal on a moving base",
-        "loop_rate_hz": p.loop_rate_hz,
-        "torque_limit_N_m": p.torque_limit,
-        "saturated": int(flags.any()),
-        "frame": "inertial: x forward, y left, z up",
-    }
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    attrs = {"title": title, "loop_rate_hz": p.loop_rate_hz, "torque_limit_N_m": p.torque_limit, **attrs}
+    return xr.Dataset(data, coords=coords, attrs={**attrs, "frame": "inertial: x forward, y left, z up"})
+
+
+def _dataset(p: GimbalParams, time: np.ndarray, axes, out: dict, m: int) -> xr.Dataset:
+    flags = out.pop("saturated").astype(bool)
+    series = {**out, "torque_saturated": flags.astype(np.int8)}
+    ds = run_dataset(p, time, axes, series, "Gyro-stabilised gimbal on a moving base", saturated=int(flags.any()))
+    ds["saturation_count"] = (
+        ("axis",),
+        flags[:, ::m].sum(axis=1),
+        {"units": "1", "long_name": "loop samples whose torque was clipped to the limit"},
+    )
+    return ds
