@@ -32,7 +32,9 @@ import numpy as np
 import xarray as xr
 
 AXES = ("y", "z")  # the isolator's compliant axes (and the camera's translation the criteria score)
-MOUNT_AXES = ("x", "y", "z")  # the mount's translation and rotation axes
+STANDARD_GRAVITY = 9.80665  # m s-2, one g (exact by definition)
+XYZ = ("x", "y", "z")  # Cartesian axes (x forward, y left, z up): a body's, a sensor's, a frame's
+MOUNT_AXES = XYZ  # the mount's translation and rotation axes
 MOUNTS = ("isolated", "rigid")
 FRAMES = {
     "inertial": "inertial frame: x forward, y left, z up (the fuselage axes at t = 0)",

@@ -25,12 +25,13 @@ import xarray as xr
 from exudyn.rigidBodyUtilities import RigidBodyInertia, RotationMatrixZ, TreeLink
 from scipy.spatial.transform import Rotation
 
+from uavdamp.contract import XYZ
 from uavdamp.helicopter.params import Helicopter, SolverOptions, TailRotor
 from uavdamp.progress import bar
 
 FUSELAGE_LINK = 5
 HUB_LINK = 6
-AXES = ("x", "y", "z")
+AXES = XYZ  # the fuselage's axes
 
 
 def solver_settings(options: SolverOptions) -> exu.SimulationSettings:

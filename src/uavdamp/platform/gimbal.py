@@ -34,7 +34,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import signal
 
-from uavdamp.platform.imu import STANDARD_GRAVITY, ComplementaryFilter, ImuParams, lowpass
+from uavdamp.contract import STANDARD_GRAVITY
+from uavdamp.platform.imu import ComplementaryFilter, ImuParams, lowpass
 from uavdamp.settings import require
 
 AXES = ("roll", "pitch", "yaw")  # about the camera's x, y, z

@@ -27,10 +27,10 @@ import numpy as np
 from scipy import signal
 from scipy.linalg import expm
 
+from uavdamp.contract import STANDARD_GRAVITY
 from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
 from uavdamp.settings import require
 
-STANDARD_GRAVITY = 9.80665  # m s-2
 DEG = math.pi / 180.0
 
 

@@ -23,10 +23,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import eigh
 
+from uavdamp.contract import XYZ
 from uavdamp.platform.statespace import StateSpace
 
 KINDS = ("elastomer", "rubber_ball", "wire_rope")
-AXES = ("x", "y", "z")
+AXES = XYZ  # the payload's translation and rotation axes
 DOFS = ("x", "y", "z", "rx", "ry", "rz")
 WHERE = "platform.six_axis"  # the config section these parameters would come from
 

@@ -12,8 +12,8 @@ import xarray as xr  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
+from uavdamp.contract import STANDARD_GRAVITY as G  # noqa: E402
 from uavdamp.plots.style import number, plain_log_ticks  # noqa: E402
-from uavdamp.sources.levels import G  # noqa: E402
 
 URAD_PER_RAD = 1e6
 ANCHOR_URAD = 175.0  # ±0.01 deg: the angular vibration range gimbal makers quote (DJI)

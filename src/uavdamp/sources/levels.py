@@ -29,11 +29,12 @@ import numpy as np
 import xarray as xr
 from scipy.signal import lfilter, savgol_filter
 
+from uavdamp.contract import STANDARD_GRAVITY, XYZ
 from uavdamp.signals import spectrum
 
-G = 9.80665  # m s-2 per g, standard gravity (exact by definition)
+G = STANDARD_GRAVITY  # m s-2 per g
 INCH = 0.0254  # m per inch (exact)
-AXES = ("x", "y", "z")
+AXES = XYZ  # the axes a level is stated on
 
 VIBE_FLOOR_HZ = 5.0  # Hz, ArduPilot AP_INERTIAL_SENSOR_ACCEL_VIBE_FLOOR_FILT_HZ
 VIBE_FILTER_HZ = 2.0  # Hz, ArduPilot AP_INERTIAL_SENSOR_ACCEL_VIBE_FILT_HZ

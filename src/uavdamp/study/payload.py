@@ -44,10 +44,10 @@ from scipy import signal
 
 from uavdamp import parallel
 from uavdamp.camera.optics import CameraModel
-from uavdamp.contract import MountMotion, is_multiple
+from uavdamp.contract import STANDARD_GRAVITY, MountMotion, is_multiple
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.gimbal import GimbalParams, design
-from uavdamp.platform.imu import STANDARD_GRAVITY, ImuParams
+from uavdamp.platform.imu import ImuParams
 from uavdamp.platform.plants import Plants
 from uavdamp.platform.six_axis import KINDS
 from uavdamp.settings import ConfigError, attached, require, setting

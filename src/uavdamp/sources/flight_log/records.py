@@ -7,8 +7,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-AXES = ("x", "y", "z")
-G0 = 9.80665  # m s-2, standard gravity
+from uavdamp.contract import STANDARD_GRAVITY, XYZ
+
+AXES = XYZ  # the log's sensor axes
+G0 = STANDARD_GRAVITY  # m s-2
 # full scales assumed when the log does not state them (assumption: the common MEMS IMU settings of PX4 and
 # ArduPilot autopilots, 16 g and 2000 deg/s); PX4's FIFO topics state theirs (int16 samples times `scale`)
 DEFAULT_ACC_RANGE_M_S2 = 16.0 * G0
