@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# CF units of a length measured in pixels: UDUNITS (the unit library CF names) has no pixel, so such a quantity has
+# units "1" (a length on the sensor over the pixel pitch), its long_name ends "in pixels" and it carries this comment
 PIXEL_COMMENT = "units 1: a length on the sensor divided by the pixel pitch, i.e. in pixels (UDUNITS has no pixel unit)"
 
 

@@ -192,8 +192,6 @@ def frames_from_image_path(
     )
 
 
-# CF units of a length measured in pixels: UDUNITS (the unit library CF names) has no pixel, so such a metric has
-# units "1" (a length on the sensor over the pixel pitch), its long_name ends "in pixels" and it carries this comment
 def _criterion(name: str, *args) -> tuple[float, str, str]:
     """(value, units, long_name) of criterion `name` (`uavdamp.camera.criteria`) from its formula's arguments."""
     c = CRITERIA[name]
@@ -314,7 +312,7 @@ def camera_criteria(
     camera_displacement: np.ndarray,
     camera_yaw: np.ndarray,
     camera_pitch: np.ndarray,
-    camera: CameraModel | None = None,
+    camera: CameraOptics | None = None,
     start_s: float | None = None,
     end_s: float | None = None,
 ) -> dict[str, float]:
