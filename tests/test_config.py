@@ -25,6 +25,12 @@ from uavdamp.settings import RENAMED, ConfigError, key_of
 # (override merged over quick.yaml, text the error must contain)
 BAD = {
     # the payload stage reads the study's cases from their start; a multirotor source needs its VIBE's settling
+    # the levels stage reads a helicopter run after levels.settle_s (the quick runs are 4 s)
+    "levels-settle-leaves-too-little": (
+        {"levels": {"settle_s": 3.0}},
+        "levels.settle_s: (3.0 s) leaves 1 s of the helicopter runs (helicopter.solver.duration_s = 4.0 s)",
+    ),
+    "levels-orders-not-distinct": ({"levels": {"orders": [1, 1]}}, "levels.orders: must be distinct integers"),
     "payload-longer-than-the-study": (
         {"payload": {"duration_s": 3.0}},
         "payload.duration_s: (3.0 s) must be at most study.duration_s (2.0 s)",

@@ -63,6 +63,7 @@ def check_config(config: Config, benchmark: bool = False) -> dict:
     _check_folds(config)
     _check_study(config)
     _check_payload(config)
+    _check_levels(config)
     _check_mounts(config)
     _check_scaling(config)
     flight_logs.check(config)
@@ -276,6 +277,19 @@ def _check_rotor_physics(config: Config) -> None:
         f"N rho c Omega^2 a alpha_stall (R^3 - r_0^3) / 6 = {thrust:.4g} N (disc loading {thrust / area:.4g} N m-2; "
         "helicopter.main_rotor.omega_rad_s, blade_length_m, aerodynamics.main_blade chord_m, lift_slope_per_rad, "
         "stall_angle_rad, air_density_kg_m3): no trim exists",
+    )
+
+
+def _check_levels(config: Config) -> None:
+    """The levels stage reads a helicopter run after levels.settle_s: what is left must hold VIBE's settling twice
+    (`uavdamp.sources.levels.vibe_settle_s`)."""
+    left = config.helicopter.solver.duration - config.levels.settle_s
+    need = 2 * vibe_settle_s()
+    require(
+        left > need,
+        "levels.settle_s",
+        f"({config.levels.settle_s} s) leaves {left:g} s of the helicopter runs (helicopter.solver.duration_s = "
+        f"{config.helicopter.solver.duration} s); their levels need more than {need:.2f} s (VIBE's settling twice)",
     )
 
 

@@ -10,7 +10,8 @@ PlatformSection), reference_table (`uavdamp.reference_table`: ReferenceTableSect
 AnfisSection), study (`uavdamp.study.comparison`: StudySection), camera (`uavdamp.camera.optics`: CameraModel), budget
 (`uavdamp.config.budget`: Budget), benchmark (`BenchmarkSection` here: the scenarios', the runs' and the split's views),
 flight_logs (`uavdamp.sources.flight_log`: FlightLogSource per name), sources (`uavdamp.sources.stated`:
-StatedSource per name), payload (`uavdamp.study.payload`: PayloadSection).
+StatedSource per name), levels (`uavdamp.sources.levels_survey`: LevelsSection), payload
+(`uavdamp.study.payload`: PayloadSection).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from uavdamp.reference_table import ReferenceTableSection
 from uavdamp.settings import NAME, RENAMED, ConfigError, parse, require, setting, view
 from uavdamp.signals.tracking import TrackerOptions
 from uavdamp.sources.flight_log import FlightLogSource
+from uavdamp.sources.levels_survey import LevelsSection
 from uavdamp.sources.stated import StatedSource
 from uavdamp.study.comparison import StudyOptions, StudySection
 from uavdamp.study.payload import PayloadSection
@@ -65,6 +67,7 @@ class Config:
     benchmark: BenchmarkSection
     flight_logs: dict[str, FlightLogSource]  # measured flights by name (the flight_log stage; cases name them)
     sources: dict[str, StatedSource]  # stated vibration sources by name (`uavdamp.sources.stated`; cases name them)
+    levels: LevelsSection  # the levels stage: every input's levels at the mount (g, in/s, VIBE)
     payload: PayloadSection  # the payload stage: payloads x mounts x damping on the cases and stated sources
 
     def validate(self) -> None:
