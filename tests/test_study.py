@@ -236,3 +236,11 @@ def test_blur_recomputed_from_the_stored_line_of_sight_equals_the_stored_metric(
         for name in ("blur_p95", "sharp_fraction", "los_std", "mtf_nyquist_median"):
             assert again[name][0] == float(run[name]), (case, name)
         assert float(run.blur_max) == float(run.frame_blur.max())
+
+
+def test_the_band_edge_warning_names_each_case_above_five_percent():
+    """2 of 40 updates at the edge is 5 %: not above, no warning; 3 of 40 (7.5 %) is, and names its case and axis."""
+    share = np.array([[2 / 40, 0.0], [3 / 40, 0.5]])
+    text = study.band_edge_warning(share, ["case1", "case2"], ["y", "z"], "[3, 12] Hz")
+    assert "case1" not in text and "case2 y: 8 %" in text and "case2 z: 50 %" in text and "[3, 12] Hz" in text
+    assert study.band_edge_warning(share[:1], ["case1"], ["y", "z"], "[3, 12] Hz") == ""

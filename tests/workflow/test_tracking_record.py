@@ -19,7 +19,9 @@ def test_the_band_edge_record_counts_every_update_at_the_edge(quick_run):
         freq = ds.tracked_freq.transpose("case", "axis", "update_time").values
         edge = ds.at_band_edge.transpose("case", "axis", "update_time").values
         count = ds.band_edge_updates.transpose("case", "axis").values
+        share = ds.band_edge_share.transpose("case", "axis").values
         long_name = ds.band_edge_updates.attrs["long_name"]
+        warning, cases = ds.attrs.get("band_edge_warning", ""), [str(c) for c in ds.case.values]
     expected = np.zeros(freq.shape, dtype=int)
     for index, f in np.ndenumerate(freq):
         if not np.isnan(f) and (abs(f - low) <= tolerance or abs(high - f) <= tolerance):
@@ -27,6 +29,10 @@ def test_the_band_edge_record_counts_every_update_at_the_edge(quick_run):
     np.testing.assert_array_equal(edge, expected)
     np.testing.assert_array_equal(count, expected.sum(axis=-1))
     assert f"band's edge [{low:g}, {high:g}] Hz" in long_name, long_name
+    expected_share = expected.sum(axis=-1) / np.isfinite(freq).sum(axis=-1)
+    np.testing.assert_allclose(share, expected_share, rtol=1e-12)
+    for i, case in enumerate(cases):  # the run says so above 5 %, naming the case
+        assert (f"{case} " in warning) == bool(np.any(expected_share[i] > 0.05)), (case, warning)
 
 
 def test_the_allowed_extrapolation_is_recorded_in_the_study_and_the_benchmark(quick_run):

@@ -25,6 +25,8 @@ ds = study.run_study(cases, platform, model, options, progress=True, budget=budg
 if p.extrapolation:  # allowed by study.allow_extrapolation (uavdamp.config.checks.extrapolation)
     ds.attrs["extrapolation_warning"] = "; ".join(p.extrapolation)
     workflow.log_info(f"warning: {ds.attrs['extrapolation_warning']}")
+if ds.attrs.get("band_edge_warning"):  # uavdamp.study.comparison.band_edge_warning
+    workflow.log_info(f"warning: {ds.attrs['band_edge_warning']}")
 scalars = [
     v for v in ds.data_vars if "strategy" in ds[v].dims and set(ds[v].dims) <= {"case", "stiffness", "strategy", "axis"}
 ]

@@ -180,7 +180,10 @@ def _finish(ds: xr.Dataset, cases: xr.Dataset, options: StudyOptions, params: Pl
         ds[name] = (("case", "mount_axis", "time"), np.asarray(values), dict(cases[name].attrs))
     ds = ds.assign_coords(describe_rows(cases, options.strategies))
     ds.attrs = options.camera.attrs() if options.camera is not None else {}
-    return ds.merge(tracked_frequencies(cases, options, params.update_period))
+    tracked = tracked_frequencies(cases, options, params.update_period)
+    ds = ds.merge(tracked)
+    ds.attrs.update(tracked.attrs)  # the band-edge warning, if any
+    return ds
 
 
 def describe_rows(cases: xr.Dataset, names) -> dict:
@@ -214,8 +217,16 @@ def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period:
     edge = at_band_edge(freq, options.tracking)
     band = f"[{options.tracking.min_freq_hz:g}, {options.tracking.max_freq_hz:g}] Hz"
     edge_attrs = f"within {band_edge_tolerance(options.tracking):g} Hz of the band's edge {band}"
-    return xr.Dataset(
+    estimates = np.isfinite(freq).sum(axis=-1)
+    share = np.divide(edge.sum(axis=-1), estimates, out=np.zeros(estimates.shape), where=estimates > 0)
+    warning = band_edge_warning(share, [str(c) for c in cases.case.values], [str(a) for a in cases.axis.values], band)
+    out = xr.Dataset(
         {
+            "band_edge_share": (
+                ("case", "axis"),
+                share,
+                {"units": "1", "long_name": f"share of the tracked updates at the band's edge ({edge_attrs})"},
+            ),
             "at_band_edge": (
                 ("case", "axis", "update_time"),
                 edge.astype(np.int8),
@@ -237,6 +248,29 @@ def tracked_frequencies(cases: xr.Dataset, options: StudyOptions, update_period:
             ),
         },
         coords={"update_time": ("update_time", update, {"units": "s", "long_name": "damping update time"})},
+    )
+    if warning:
+        out.attrs["band_edge_warning"] = warning
+    return out
+
+
+BAND_EDGE_WARN_SHARE = 0.05  # a case's tracked updates at the band's edge above this share: the run says so
+
+
+def band_edge_warning(share: np.ndarray, cases: list[str], axes: list[str], band: str) -> str:
+    """The run's warning (empty: none) for every (case, axis) whose share (case, axis) of tracked updates at the
+    tracker band's edge exceeds BAND_EDGE_WARN_SHARE: the input's line may lie outside the band."""
+    over = [
+        f"{case} {axis}: {100 * share[i, j]:.0f} %"
+        for i, case in enumerate(cases)
+        for j, axis in enumerate(axes)
+        if share[i, j] > BAND_EDGE_WARN_SHARE
+    ]
+    if not over:
+        return ""
+    return (
+        f"tracked frequency at the band's edge {band} in more than {100 * BAND_EDGE_WARN_SHARE:.0f} % of the updates "
+        f"({'; '.join(over)}): the input's line may lie outside study.tracking's band (and the ANFIS's)"
     )
 
 
