@@ -46,7 +46,9 @@ rule levels:
             f"{OUT}/figures/levels.png",
             caption="../report/levels.rst",
             category="Inputs",
-            labels={"figure": "vibration levels per input: lines, track and balance, VIBE"},
+            labels={
+                "figure": "vibration levels per input: lines, track and balance, VIBE"
+            },
         ),
     log:
         f"{OUT}/logs/levels.log",
@@ -58,7 +60,9 @@ rule levels:
             {
                 **{f"{OUT}/helicopter/runs/{r}.nc": RUN_RULE[r] for r in ROTORS},
                 f"{OUT}/excitation/cases.nc": "excitation",
-                **{f"{OUT}/flight_logs/{n}.nc": f"flight_log:{n}" for n in FLIGHT_LOGS},
+                **{
+                    f"{OUT}/flight_logs/{n}.nc": f"flight_log:{n}" for n in FLIGHT_LOGS
+                },
             }
         ),
         levels=LEVELS,
