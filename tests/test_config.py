@@ -22,9 +22,24 @@ from uavdamp.config import docs as config_docs
 from uavdamp.config.load import Config, load
 from uavdamp.settings import RENAMED, ConfigError, key_of
 
+STATED_CASE = {"motion": "full", "amplitude_scaling": "measured", "amplitude_reading": "dominant", "description": "x"}
 # (override merged over quick.yaml, text the error must contain)
 BAD = {
     # the payload stage reads the study's cases from their start; a multirotor source needs its VIBE's settling
+    # a stated source as a case: its lines below the platform solver's limit and one of them in the tracker's band
+    "source-lines-above-the-platform-limit": (
+        {"study": {"cases": {"case4": {"source": "heli_sine_on_random", **STATED_CASE}}}},
+        "study.cases.case4.source: the source 'heli_sine_on_random' puts its lines at 7.0665-84.798 Hz: each must "
+        "stay below",
+    ),
+    "source-lines-outside-the-tracker-band": (
+        {
+            "sources": {"tones_30": {"kind": "tones", "freq_y_hz": [30.0], "freq_z_hz": [31.0], "amplitude_m": 1e-4}},
+            "study": {"cases": {"case4": {"source": "tones_30", **STATED_CASE}}},
+        },
+        "study.cases.case4.source: the source 'tones_30' puts its lines at 30-31 Hz, none in the tracker's band "
+        "study.tracking.min_freq_hz/max_freq_hz [3, 12] Hz",
+    ),
     # the levels stage reads a helicopter run after levels.settle_s (the quick runs are 4 s)
     "levels-settle-leaves-too-little": (
         {"levels": {"settle_s": 3.0}},

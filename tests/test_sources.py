@@ -198,3 +198,19 @@ def test_the_shipped_sources_generate_at_their_stated_levels():
     assert float(heli.velocity_in_s.sel(line="1/rev", axis="y")) == pytest.approx(0.2, rel=1e-12)
     assert float(heli.accel_g.sel(line="4/rev", axis="z")) == pytest.approx(0.15, rel=1e-12)
     assert list(heli.freq_hz.sel(line=["1/rev", "4/rev"]).values) == pytest.approx([7.0665, 4 * 7.0665])
+
+
+def test_a_stated_sources_lines_are_its_stated_frequencies():
+    """By hand: a 7 Hz four-blade rotor with a 35 Hz two-blade tail puts lines at 7, 28, 56, 84 (1, N, 2N, 3N/rev)
+    and 35, 70 Hz; four 3000 rpm two-blade motors spread +-5 % at 100 (1 + 0.05 u) Hz, u = -1, -1/3, 1/3, 1, and
+    twice that; a sweep its two ends; tones each tone."""
+    heli = stated.StatedSource(
+        kind="sine_on_random", rotor_hz=7.0, blades=4, tail_rotor_hz=35.0, tail_blades=2, seed=1, highpass_hz=2.0
+    )
+    np.testing.assert_allclose(heli.lines_hz(), [7, 28, 35, 56, 70, 84], rtol=1e-12)
+    multi = stated.StatedSource(kind="multirotor", motor_rpm=3000.0, blades=2, motors=4, spread=0.05)
+    one = 100 * (1 + 0.05 * np.array([-1, -1 / 3, 1 / 3, 1]))
+    np.testing.assert_allclose(multi.lines_hz(), np.sort(np.r_[one, 2 * one]), rtol=1e-12)
+    sweep = stated.StatedSource(kind="sweep", freq_hz=(4.0, 10.0), amplitude_m=1e-3)
+    tones = stated.StatedSource(kind="tones", freq_y_hz=(8.0,), freq_z_hz=(5.0, 6.0), amplitude_m=1e-3)
+    assert list(sweep.lines_hz()) == [4.0, 10.0] and list(tones.lines_hz()) == [5.0, 6.0, 8.0]

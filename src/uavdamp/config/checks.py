@@ -64,6 +64,7 @@ def check_config(config: Config, benchmark: bool = False) -> dict:
     _check_study(config)
     _check_payload(config)
     _check_levels(config)
+    _check_source_bands(config)
     _check_mounts(config)
     _check_scaling(config)
     flight_logs.check(config)
@@ -97,12 +98,7 @@ def _check_platform(platform: PlatformParams) -> None:
 def _check_frequencies(config: Config) -> None:
     """Every input frequency below the configured fraction of the platform solver's Nyquist frequency."""
     platform = config.platform
-    h = platform.time_step
-    limit = platform.solver.max_frequency_fraction * 0.5 / h
-    rule = (
-        f"must stay below {platform.solver.max_frequency_fraction} x the Nyquist frequency of "
-        f"platform.solver.time_step_s = {h} s, i.e. {limit:g} Hz"
-    )
+    limit, rule = _platform_rule(config)
     grid = config.reference_table
     for key, axis in (("reference_table.freq_y_hz", grid.freq_y), ("reference_table.freq_z_hz", grid.freq_z)):
         top = axis.array().max()
@@ -277,6 +273,39 @@ def _check_rotor_physics(config: Config) -> None:
         f"N rho c Omega^2 a alpha_stall (R^3 - r_0^3) / 6 = {thrust:.4g} N (disc loading {thrust / area:.4g} N m-2; "
         "helicopter.main_rotor.omega_rad_s, blade_length_m, aerodynamics.main_blade chord_m, lift_slope_per_rad, "
         "stall_angle_rad, air_density_kg_m3): no trim exists",
+    )
+
+
+def _check_source_bands(config: Config) -> None:
+    """A stated source a study case or a benchmark scenario uses has its lines (`StatedSource.lines_hz`) below the
+    platform solver's limit (the rule every input frequency keeps) and at least one inside the tracker's band: else
+    the tracker would sit at its band's edge on every update, and the damping law would schedule on no line."""
+    track = config.study.tracking
+    band = f"study.tracking.min_freq_hz/max_freq_hz [{track.min_freq_hz:g}, {track.max_freq_hz:g}] Hz"
+    users = {f"study.cases.{n}.source": c.stated for n, c in config.study.cases.items() if c.stated}
+    users |= {f"benchmark.sources[{k}]": name for k, name in enumerate(config.benchmark.sources)}
+    for key, name in users.items():
+        if name not in config.sources:
+            continue  # refused by check_names, naming the key
+        lines = config.sources[name].lines_hz()
+        span = f"the source {name!r} puts its lines at {lines.min():g}-{lines.max():g} Hz"
+        limit, rule = _frequency_rule(config) if key.startswith("benchmark") else _platform_rule(config)
+        require(lines.max() < limit, key, f"{span}: each {rule}")
+        inside = (lines >= track.min_freq_hz) & (lines <= track.max_freq_hz)
+        require(
+            bool(np.any(inside)),
+            key,
+            f"{span}, none in the tracker's band {band}: the tracker would find none of them. Either set the "
+            "tracker's band (and the reference table's) across them, or name a source whose lines lie in it",
+        )
+
+
+def _platform_rule(config: Config) -> tuple[float, str]:
+    """(Hz, text): the limit every study input frequency stays below (`_check_frequencies`' rule)."""
+    h, fraction = config.platform.time_step, config.platform.solver.max_frequency_fraction
+    limit = fraction * 0.5 / h
+    return limit, (
+        f"must stay below {fraction} x the Nyquist frequency of platform.solver.time_step_s = {h} s, i.e. {limit:g} Hz"
     )
 
 

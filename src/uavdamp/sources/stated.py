@@ -118,6 +118,21 @@ class StatedSource:
         if self.amplitude_m is not None:
             require(self.amplitude_m > 0, f"{where}.amplitude_m", f"must be > 0, got {self.amplitude_m}")
 
+    def lines_hz(self) -> np.ndarray:
+        """Hz, the frequencies the source puts its content at: a sweep's or a random band's two ends, every tone,
+        every stated line of a profile (`profiles.helicopter_lines`, `profiles.multirotor_lines`); sorted."""
+        if self.kind in ("sweep", "random"):
+            found = list(self.freq_hz if self.kind == "sweep" else self.band_hz)
+        elif self.kind == "tones":
+            found = [*self.freq_y_hz, *self.freq_z_hz]
+        elif self.kind == "sine_on_random":
+            lines = profiles.helicopter_lines(self.rotor_hz, self.blades, self.tail_rotor_hz, self.tail_blades)
+            found = [line.freq_hz for line in lines]
+        else:
+            lines = profiles.multirotor_lines(self.motor_rpm, self.blades, self.motors, self.spread)
+            found = [line.freq_hz for line in lines]
+        return np.sort(np.asarray(found, dtype=float))
+
     @property
     def synthetic(self) -> bool:
         """True for the kinds that move the mount in y and z only (`SYNTHETIC`)."""
