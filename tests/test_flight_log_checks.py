@@ -17,7 +17,8 @@ from test_config import _merged
 from test_flight_log import FMT, IMU, QUAD, VTOL, G, still_frd, write_csv, write_dataflash
 
 from uavdamp.config import checks
-from uavdamp.sources.flight_log import FlightLogError, read_flight_log
+from uavdamp.sources import levels
+from uavdamp.sources.flight_log import FlightLogError, read_flight_log, spectra
 from uavdamp.sources.flight_log.__main__ import main
 from uavdamp.sources.flight_log.info import describe
 
@@ -336,3 +337,12 @@ def test_gyro_in_deg_per_s_is_refused_against_the_logged_attitude_in_flight(tmp_
     else:
         with pytest.raises(FlightLogError, match=r"logged attitude .*not in rad/s \(angular rates in deg/s"):
             read_flight_log(path, band_hz=(2.0, 40.0))
+
+
+def test_a_logs_vibe_is_ardupilots_at_its_median_interval():
+    """The reader's VIBE is `levels.vibe` (ArduPilot's filters, tested against their closed form) at the samples'
+    median interval: equal on a uniform record, and NaN on one shorter than twice VIBE's settling (1.59 s)."""
+    t = np.arange(0, 5.0, 1e-3)
+    accel = np.stack([np.sin(2 * np.pi * 40 * t), 0 * t, 9.8 + 0.1 * np.cos(2 * np.pi * 60 * t)])
+    np.testing.assert_allclose(spectra.vibe(t, accel), levels.vibe(accel, 1e-3), rtol=1e-12)  # dt: 1e-3 to 1 ulp
+    assert np.all(np.isnan(spectra.vibe(t[:1500], accel[:, :1500])))

@@ -18,7 +18,7 @@ workflow.log_info(
     f"{a['gyro_rate_hz']:.1f} Hz): airborne {a['airborne_s_in_window']:.2f} s of the window "
     f"({a['airborne_intervals']}); "
     f"aliasing: {a['problems_aliasing']}; on the ground: {a['problems_on_ground']}; bad samples: "
-    f"{a['bad_sample_count']}; VIBE-like std {a['vibe_like_m_s2'].round(2).tolist()} m/s2; "
+    f"{a['bad_sample_count']}; VIBE {a['vibe_m_s2'].round(2).tolist()} m/s2; "
     f"{a['sample_rate_hz']:.2f} Hz, window "
     f"{a['log_window_s'][0]:.3f}-{a['log_window_s'][1]:.3f} s, interval jitter std {a['interval_jitter_std']:.3g} "
     f"max {a['interval_jitter_max']:.3g}; peak |displacement| per axis, m: "

@@ -54,10 +54,9 @@ def describe(path, band_hz=None, window_s=None, blades: int = 2) -> str:
         )
     out.append(f"vehicle lines (the log's own): {aliasing.describe(lines)}")
     out += [f"  ALIASED: {text}" for text in folded]
-    vibe = spectra.vibe_like(t_a, record.acceleration[:, keep_a])
+    vibe = spectra.vibe(t_a, record.acceleration[:, keep_a])
     out.append(
-        "VIBE-like accelerometer std above 5 Hz, m/s2: "
-        + ", ".join(f"{a} {v:.2f}" for a, v in zip(AXES, vibe, strict=True))
+        "VIBE (ArduPilot's filters), m/s2: " + ", ".join(f"{a} {v:.2f}" for a, v in zip(AXES, vibe, strict=True))
     )
     peaks = spectra.psd_peaks(t_a, record.acceleration[:, keep_a], band_hz)
     for axis, found in zip(AXES, peaks, strict=True):

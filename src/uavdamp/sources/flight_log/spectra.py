@@ -1,20 +1,21 @@
-"""Vibration levels and lines of an accelerometer record: a VIBE-like level and the strongest Welch PSD peaks."""
+"""Vibration levels and lines of an accelerometer record: ArduPilot's VIBE and the strongest Welch PSD peaks."""
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import butter, find_peaks, sosfiltfilt, welch
+from scipy.signal import find_peaks, welch
 
-VIBE_HIGHPASS_HZ = 5.0  # ArduPilot's VIBE: accelerometer deviation from its 5 Hz low-pass (as approximated here)
+from uavdamp.sources import levels
 
 
-def vibe_like(time_s: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
-    """Per axis, m s-2: the std of the acceleration above VIBE_HIGHPASS_HZ (2nd-order Butterworth high-pass,
-    forward and backward), the quantity ArduPilot's VIBE estimates (choice of filter; its own is a 5 Hz
-    low-pass floor and a 2 Hz mean of the squared difference)."""
-    fs = 1.0 / float(np.median(np.diff(time_s)))
-    sos = butter(2, VIBE_HIGHPASS_HZ, btype="highpass", fs=fs, output="sos")
-    return np.std(sosfiltfilt(sos, acceleration, axis=-1), axis=-1)
+def vibe(time_s: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
+    """Per axis, m s-2: ArduPilot's VIBE of the logged samples (`uavdamp.sources.levels.vibe`: ArduPilot's own 5 Hz
+    floor and 2 Hz filters) at their median interval; NaN for a record no longer than twice VIBE's settling."""
+    dt = float(np.median(np.diff(time_s)))
+    a = np.atleast_2d(np.asarray(acceleration, dtype=float))
+    if a.shape[-1] * dt <= 2 * levels.vibe_settle_s():
+        return np.full(a.shape[0], np.nan)
+    return levels.vibe(a, dt)
 
 
 def psd_peaks(time_s: np.ndarray, values: np.ndarray, band_hz=None, count: int = 3) -> list[list[tuple[float, float]]]:
