@@ -1,6 +1,6 @@
 """The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
-accelerometer range, its rate-loop crossover, a camera imbalance, the six-axis isolator's stiffness (its modes), the
-camera's and the isolated plate's masses, and the skyhook runs' damper lag.
+accelerometer range, its rate-loop crossover, its gyro's bias, a camera imbalance, the six-axis isolator's
+stiffness (its modes), the camera's and the isolated plate's masses, and the skyhook runs' damper lag.
 
     python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc] [--only TEXT ...]
 
@@ -76,6 +76,8 @@ def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
     out["six-axis stiffness / 4 (modes / 2)"] = dataclasses.replace(
         section, six_axis=dataclasses.replace(six, stiffness=soft)
     )
+    for deg_s in (0.005, 0.01, 0.1):  # the gyro's residual bias after power-up calibration, every axis (choice: 0)
+        out[f"gyro bias {deg_s:g} deg/s"] = gimbal(gyro_bias=(np.radians(deg_s),) * 3)
     for lag in (0.01, 0.03):  # the skyhook runs' damper: an MR damper's response time is 10-30 ms (assumption)
         out[f"skyhook damper lag {lag * 1e3:g} ms"] = dataclasses.replace(section, skyhook_lag=lag)
     for factor, label in ((0.5, "/ 2"), (2.0, "x 2")):  # the masses: choices (the gains are designed for each)

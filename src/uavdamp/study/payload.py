@@ -87,6 +87,7 @@ class GimbalSection:
     # Hz, the complementary filter's crossover (accelerometer below, gyro above): BruGi's 7 s by default
     estimator_crossover_hz: float = setting(default=1.0 / (2 * math.pi * 7.0))
     accel_range_g: float = setting(default=2.0)  # g, the IMU accelerometer's full scale +/-
+    gyro_bias: tuple[float, ...] = setting("gyro_bias_rad_s", default=(0.0, 0.0, 0.0), length=3)  # rad s-1, x y z
     camera_mass: float = attached(0.9)  # kg, the platform's camera (platform.structure): `with_camera`
     camera_size: tuple[float, ...] = attached((0.10, 0.06, 0.06))  # m, its box's x, y, z edges, the same
 
@@ -102,7 +103,7 @@ class GimbalSection:
             current_limit=self.current_limit,
             imbalance_m=tuple(self.imbalance_m),
             estimator_crossover_hz=self.estimator_crossover_hz,
-            imu=ImuParams(accel_range=self.accel_range_g * STANDARD_GRAVITY),
+            imu=ImuParams(accel_range=self.accel_range_g * STANDARD_GRAVITY, gyro_bias=tuple(self.gyro_bias)),
             camera_mass=self.camera_mass,
             camera_size=tuple(self.camera_size),
         )
