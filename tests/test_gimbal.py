@@ -11,6 +11,7 @@ import pytest
 from uavdamp.platform.gimbal import GimbalParams, axis_inertia, axis_model, design, imbalance_torque, plant_tf
 from uavdamp.platform.gimbal_loop import design_report, sensitivity
 from uavdamp.platform.gimbal_sim import simulate
+from uavdamp.platform.imu import ImuParams
 from uavdamp.settings import ConfigError
 
 P = GimbalParams()
@@ -250,3 +251,23 @@ def test_the_simulation_dataset_names_its_units_and_axes():
     assert ds.line_of_sight.attrs["units"] == "rad"
     assert np.array_equal(ds.line_of_sight, run(4).line_of_sight)
     assert not np.array_equal(ds.line_of_sight, run(5).line_of_sight)
+
+
+def test_a_gyro_bias_drifts_yaw_and_tilts_roll_and_pitch_by_the_filters_time_constant():
+    """A constant gyro bias b on a still mount, no other sensor error. The rate PI holds the reading at the
+    attitude loop's command -K_a theta_est, so at rest theta_est = -b / K_a. Yaw has no reference: its estimate
+    integrates the reading, which is then zero, so the camera turns at -b (slope within 1 %). Roll and pitch are
+    aided by the accelerometer below f_x: the estimate settles at the true tilt plus b tau, tau = 1 / (2 pi f_x),
+    so the camera settles at -b (tau + 1 / K_a) (within 1 % after 10 tau)."""
+    b = math.radians(0.05)
+    imu = ImuParams(gyro_noise_density=0.0, accel_noise_density=0.0, bits=0, gyro_bias=(b, b, b))
+    p = GimbalParams(estimator_crossover_hz=0.5, imu=imu)
+    time = np.arange(0.0, 4.0, p.period)
+    ds = simulate(p, time, _zeros(time), _zeros(time), _zeros(time), sensor_errors=True)
+    late = time >= 3.0
+    yaw = ds.line_of_sight.sel(axis="yaw").values[late]
+    assert np.polyfit(time[late], yaw, 1)[0] == pytest.approx(-b, rel=0.01)
+    tau, gains = 1 / (2 * np.pi * 0.5), design(p)
+    for axis in ("roll", "pitch"):
+        expected = -b * (tau + 1 / gains[axis].ka)
+        assert ds.line_of_sight.sel(axis=axis).values[late].mean() == pytest.approx(expected, rel=0.01), axis

@@ -268,3 +268,11 @@ def test_the_inputs_give_the_same_numbers_on_one_and_two_workers():
     one, two = (compare_inputs(found, dataclasses.replace(section, threads=n), PLATFORM, CAMERA) for n in (1, 2))
     xr.testing.assert_identical(one, two)
     assert one.sizes["input"] == 2 and one.sizes["law"] == 1
+
+
+def test_the_gyro_bias_key_reaches_the_gimbals_imu():
+    """payload.gimbal.gyro_bias_rad_s is the IMU's gyro bias (rad s-1, camera x, y, z); none by default."""
+    section = _section()
+    assert section.gimbal.params().imu.gyro_bias == (0.0, 0.0, 0.0)
+    biased = dataclasses.replace(section.gimbal, gyro_bias=(1e-4, 2e-4, 3e-4))
+    assert biased.params().imu.gyro_bias == (1e-4, 2e-4, 3e-4)
