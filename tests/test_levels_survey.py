@@ -104,3 +104,15 @@ def test_a_record_too_short_for_vibe_has_no_vibe_but_its_lines():
     ds = S.survey({"short": S.Record("case", "", DT, {"1/rev": 7.0}, disp)})
     assert np.all(np.isnan(ds.vibe_m_s2.values))
     assert float(ds.displacement_m.sel(input="short", line=0, axis="y")) == pytest.approx(1e-3, rel=1e-3)
+
+
+def test_lines_a_short_record_cannot_resolve_are_left_out_in_order():
+    """A log's peaks at 10.0 and 10.6 Hz (found on the whole log) on a 2 s case: 2 / T = 1 Hz, so 10.6 goes; on a
+    4 s record (0.5 Hz) both stay."""
+    lines = {"peak x": 10.0, "peak y": 10.6, "peak z": 20.0}
+    assert S.resolved(lines, 2.0) == {"peak x": 10.0, "peak z": 20.0}
+    assert S.resolved(lines, 4.0) == lines
+    t = np.arange(0, 2.0, DT)
+    disp = np.stack([1e-3 * np.sin(2 * np.pi * 10 * t), 0 * t, 0 * t])
+    ds = S.survey({"case": S.Record("case", "", DT, lines, disp)})
+    assert list(ds.line_name.sel(input="case").values) == ["peak x", "peak z"]

@@ -22,7 +22,8 @@ from uavdamp import io
 pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
 # the payload stage reads the cases (excitation), the camera and the platform
-FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study", "payload"}
+# the levels stage reads every helicopter run, the cases and the logs
+FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study", "payload", "levels"}
 HELICOPTER_ALL = {
     "helicopter_run",
     "helicopter_flight",
@@ -34,6 +35,7 @@ HELICOPTER_ALL = {
     "excitation",
     "study",
     "payload",
+    "levels",
 }
 GRID_DOWN = {"reference_table_chunk", "reference_table", "reference_table_stroke", "anfis", "study"}
 
@@ -90,8 +92,9 @@ EDITS = {
     "study.tracking.window_s": (
         ("study", "tracking", "window_s"),
         lambda v: v * 0.8,
-        {"excitation", "study", "payload"},
+        {"excitation", "study", "payload", "levels"},
     ),
+    "levels.settle_s": (("levels", "settle_s"), lambda v: v + 0.5, {"levels"}),
     "study.figures.case_1": (("study", "figures", "case_1"), lambda v: "case2", {"study"}),
     # the sharp-frame threshold is the study's image metric, not the grid's blur (it once reran the grid)
     "camera.sharp_threshold_px": (("camera", "sharp_threshold_px"), lambda v: v * 2, {"study", "payload"}),

@@ -74,18 +74,30 @@ def record_levels(record: Record) -> xr.Dataset:
     `vibe_settle_s`, 1.59 s) and its rotation's std per axis."""
     if (record.displacement_m is None) == (record.acceleration_m_s2 is None):
         raise ValueError("record: give exactly one of displacement_m and acceleration_m_s2")
+    n = np.shape(record.acceleration_m_s2 if record.acceleration_m_s2 is not None else record.displacement_m)[-1]
+    lines = resolved(record.lines_hz, n * record.dt)
     if record.acceleration_m_s2 is not None:
         accel = np.asarray(record.acceleration_m_s2, dtype=float)
-        ds = line_levels(accel, record.dt, record.lines_hz, kind="acceleration")
+        ds = line_levels(accel, record.dt, lines, kind="acceleration")
     else:
         disp = np.asarray(record.displacement_m, dtype=float)
-        ds = line_levels(disp, record.dt, record.lines_hz)
+        ds = line_levels(disp, record.dt, lines)
         accel = acceleration_from_displacement(disp, record.dt)
     rotation = np.full(len(AXES), np.nan) if record.rotation_rad is None else np.std(record.rotation_rad, axis=-1)
     long_enough = accel.shape[-1] * record.dt > 2 * vibe_settle_s()  # else NaN: VIBE's 2 Hz filter has not settled
     ds["vibe_m_s2"] = ("axis", vibe(accel, record.dt) if long_enough else np.full(len(AXES), np.nan))
     ds["rotation_std_rad"] = ("axis", rotation)
     return ds
+
+
+def resolved(lines_hz: dict[str, float], record_s: float) -> dict[str, float]:
+    """The lines a record of record_s s resolves (`levels.line_levels`: apart by more than 2 / T), in order: a line
+    within 2 / T of one kept earlier is left out (a log's peaks, found on the whole log, on a shorter case)."""
+    kept: dict[str, float] = {}
+    for name, f in lines_hz.items():
+        if all(abs(f - g) > 2.0 / record_s for g in kept.values()):
+            kept[name] = f
+    return kept
 
 
 def survey(records: dict[str, Record]) -> xr.Dataset:
