@@ -158,19 +158,11 @@ def _assert_ran_as_slurm_job(cluster, workdir: Path, item: str, slurm_id: str, s
     assert completion["JobState"] == state and completion["NodeList"] == "localhost", completion
 
 
-def test_reference_table_on_slurm_equals_local_run(slurm_cluster, local_run, n_chunks, tmp_path):
-    workdir = copy_workflow(tmp_path)
-    result, submitted, wall = run_on_slurm(workdir, slurm_cluster)
-    print(f"[slurm] {TARGET}: {wall:.1f} s")
-    output = result.stdout + result.stderr
-    assert result.returncode == 0, output[-6000:]
-    assert set(submitted) == {*_items(n_chunks), "reference_table"}, output[-6000:]
-    for item in _items(n_chunks):
-        _assert_ran_as_slurm_job(slurm_cluster, workdir, item, submitted[item][1], "COMPLETED")
-    _assert_same_numbers(workdir, local_run)
-
-
 def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_chunks, tmp_path, monkeypatch):
+    """The reference table through the SLURM profile, one chunk failing on purpose: the failure is reported and the
+    other chunks finish as SLURM jobs; the rerun submits only the failed chunk and the gather, keeps the finished
+    chunks, and the table equals the local run's bit for bit. Every chunk and the gather ran as a SLURM job (the
+    clean run's checks, which this covers: one cluster run fewer)."""
     items = _items(n_chunks)
     bad = items[1]
     workdir = copy_workflow(tmp_path)
@@ -182,7 +174,8 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
         os.pathsep.join(filter(None, [str(ROOT / "tests/workflow/slurm/fail_chunk"), os.environ.get("PYTHONPATH")])),
     )
     monkeypatch.setenv("UAVDAMP_TEST_FAIL_CHUNK", bad)
-    result, submitted, wall = run_on_slurm(workdir, slurm_cluster)
+    result, first, wall = run_on_slurm(workdir, slurm_cluster)
+    submitted = first
     print(f"[slurm] run with chunk {bad} failing: {wall:.1f} s")
     output = result.stdout + result.stderr
     assert result.returncode != 0, output[-6000:]
@@ -203,6 +196,7 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     output = result.stdout + result.stderr
     assert result.returncode == 0, output[-6000:]
     assert set(submitted) == {bad, "reference_table"}, f"only the failed chunk and the gather rerun: {submitted}"
+    assert set(first) | set(submitted) == {*items, "reference_table"}, (first, submitted)
     _assert_ran_as_slurm_job(slurm_cluster, workdir, bad, submitted[bad][1], "COMPLETED")
     for item, mtime in kept.items():
         assert (chunks / f"{item}.nc").stat().st_mtime_ns == mtime, f"finished chunk {item} was recomputed"
