@@ -276,3 +276,16 @@ def test_the_gyro_bias_key_reaches_the_gimbals_imu():
     assert section.gimbal.params().imu.gyro_bias == (0.0, 0.0, 0.0)
     biased = dataclasses.replace(section.gimbal, gyro_bias=(1e-4, 2e-4, 3e-4))
     assert biased.params().imu.gyro_bias == (1e-4, 2e-4, 3e-4)
+
+
+def test_the_detrended_line_of_sight_leaves_a_drift_out_and_keeps_the_vibration():
+    """A ramp and a quadratic (a gyro bias's drift) plus a 7 Hz sine of 100 urad on yaw, a 50 urad sine on pitch,
+    over 4 s (28 whole cycles): the detrended rms is the sines' sqrt(100^2 + 50^2) / sqrt(2) urad within 0.5 % (a
+    sine's residual projection on a quadratic over whole cycles is small); the drift alone leaves 0."""
+    t = np.arange(1.0, 5.0, 5e-4)
+    drift = 1e-3 * (t - 1.0) + 2e-4 * (t - 1.0) ** 2
+    yaw = drift + 100e-6 * np.sin(2 * np.pi * 7.0 * t)
+    pitch = -drift + 50e-6 * np.cos(2 * np.pi * 7.0 * t)
+    expected = math.hypot(100e-6, 50e-6) / math.sqrt(2)
+    assert payload_runs.detrended_std(t, yaw, pitch) == pytest.approx(expected, rel=5e-3)
+    assert payload_runs.detrended_std(t, drift, -drift) == pytest.approx(0.0, abs=1e-15)

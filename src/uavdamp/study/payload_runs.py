@@ -205,6 +205,12 @@ def head_series(plants, mount_kind: str, time: np.ndarray, mount: MountMotion, s
 # name: (units, long_name, in pixels) of the metrics of one run; None: a criterion of `uavdamp.camera.criteria`
 METRICS = {
     "los_std": None,
+    "los_detrended_std": (
+        "rad",
+        "line of sight (yaw, pitch) rms about its least-squares quadratic over the settled window: the vibration "
+        "without a slow drift (a gyro bias's)",
+        False,
+    ),
     "los_roll_rms": ("rad", "line-of-sight roll rms (std) over the settled window", False),
     "los_peak_to_peak": ("rad", "largest frame-to-frame image offset, as an angle (arctan of px / focal px)", False),
     "jitter_within_exposure": ("1", "rms over frames of the jitter about the exposure's linear smear, in pixels", True),
@@ -226,6 +232,19 @@ def metric_attrs(name: str) -> dict[str, str]:
     return pixel_attrs(long_name) if pixels else {"units": units, "long_name": long_name}
 
 
+def detrended_std(time: np.ndarray, *angles: np.ndarray) -> float:
+    """sqrt of the summed mean squares (rad) of each angle (rad) about its least-squares quadratic in time (s): the
+    rms a drift slower than the window (a ramp, a settling over a long time constant) leaves out."""
+    t = np.asarray(time, dtype=float) - float(np.mean(time))
+    basis = np.column_stack([np.ones_like(t), t, t * t])
+    total = 0.0
+    for angle in angles:
+        a = np.asarray(angle, dtype=float)
+        residual = a - basis @ np.linalg.lstsq(basis, a, rcond=None)[0]
+        total += float(np.mean(residual**2))
+    return math.sqrt(total)
+
+
 def run_metrics(time: np.ndarray, s: Series, camera: CameraModel, start: float, end: float) -> dict[str, float]:
     """The metrics of `METRICS` of one run over the window [start, end] s (peak_stroke over the whole run)."""
     keep = window_mask(time, start, end)
@@ -235,6 +254,7 @@ def run_metrics(time: np.ndarray, s: Series, camera: CameraModel, start: float, 
     steps = np.linalg.norm(np.diff(frames.centroid_px, axis=0), axis=-1)
     return {
         "los_std": los_std(s.yaw[keep], s.pitch[keep]),
+        "los_detrended_std": detrended_std(time[keep], s.yaw[keep], s.pitch[keep]),
         "los_roll_rms": float(np.std(s.roll[keep])),
         "los_peak_to_peak": float(np.arctan(steps.max() / camera.focal_px)) if steps.size else math.nan,
         "jitter_within_exposure": float(np.sqrt(np.mean(frames.sigma_px**2))),
