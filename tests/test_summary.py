@@ -337,3 +337,21 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
     assert "(100 µrad)" in finding
     worse = ds.assign(law_los_std=(("input", "law"), [[120e-6, 130e-6]]))
     assert "120 µrad at c_on = 30 N s/m, +20 % against" in payload_page.payload_findings(worse)[0]
+
+
+def test_the_payload_findings_state_the_gimbals_line_of_sight_without_the_slow_drift():
+    """los_detrended_std of the gimbal on the six-axis isolator 40 and 60 µrad at C = 3 and 30: the finding names
+    40 µrad at C = 3, and the skyhook runs' least (35 µrad)."""
+    los = np.full((1, 1, 1, 2), 1e-4)
+    ds = xr.Dataset(
+        {
+            "los_std": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
+            "los_detrended_std": (("input", "payload", "mount", "damping"), [[[[40e-6, 60e-6]]]], {"units": "rad"}),
+            "law_los_std": (("input", "law"), [[75e-6, 90e-6]], {"units": "rad"}),
+            "law_los_detrended_std": (("input", "law"), [[35e-6, 50e-6]], {"units": "rad"}),
+            "law_c_on": (("input", "law"), [[30.0, 100.0]], {"units": "N s m-1"}),
+        },
+        coords={"input": ["heli"], "payload": ["gimbal"], "mount": ["six_axis"], "damping": [3.0, 30.0]},
+    )
+    (finding,) = payload_page.payload_findings(ds)
+    assert "gimbal on the six-axis isolator gives 40 µrad at C = 3 N s/m, 35 µrad under skyhook." in finding

@@ -52,8 +52,25 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
         )
         if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
             text += "; this input does not rotate the mount, so a balanced camera sees none of it"
-        out.append(text + "." + _skyhook_finding(ds, i))
+        out.append(text + "." + _skyhook_finding(ds, i) + _detrended_finding(ds, i))
     return out
+
+
+def _detrended_finding(ds: xr.Dataset, name) -> str:
+    """The gimbal on the six-axis isolator without the slow drift (``los_detrended_std``, at its best constant C,
+    and under skyhook where run) ('' without)."""
+    if "los_detrended_std" not in ds or "six_axis" not in ds.mount.values or "gimbal" not in ds.payload.values:
+        return ""
+    runs = ds.los_detrended_std.sel(input=name, payload="gimbal", mount="six_axis")
+    k = int(np.nanargmin(runs.values))
+    text = (
+        f" Without the slow drift (rms about a quadratic over the window), the gimbal on the six-axis isolator gives "
+        f"{fmt(float(runs.values[k]) * 1e6, 3)} µrad at C = {fmt(float(ds.damping.values[k]), 3)} N s/m"
+    )
+    if "law_los_detrended_std" in ds:
+        law = float(ds.law_los_detrended_std.sel(input=name).min())
+        text += f", {fmt(law * 1e6, 3)} µrad under skyhook"
+    return text + "."
 
 
 def _skyhook_finding(ds: xr.Dataset, name) -> str:
