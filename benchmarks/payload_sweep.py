@@ -1,6 +1,6 @@
 """The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
 accelerometer range, its rate-loop crossover, its gyro's bias, a camera imbalance, the six-axis isolator's
-stiffness (its modes), the camera's and the isolated plate's masses, and the skyhook runs' damper lag.
+stiffness (its modes), the camera's and the isolated plate's masses, and the skyhook runs' off damping and lag.
 
     python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc] [--only TEXT ...]
 
@@ -78,6 +78,8 @@ def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
     )
     for deg_s in (0.005, 0.01, 0.1):  # the gyro's residual bias after power-up calibration, every axis (choice: 0)
         out[f"gyro bias {deg_s:g} deg/s"] = gimbal(gyro_bias=(np.radians(deg_s),) * 3)
+    for c_off in (0.3, 3.0):  # the skyhook runs' off damping (choice: the least candidate, 1 N s/m)
+        out[f"skyhook c_off {c_off:g} N s/m"] = dataclasses.replace(section, skyhook_c_off=c_off)
     for lag in (0.01, 0.03):  # the skyhook runs' damper: an MR damper's response time is 10-30 ms (assumption)
         out[f"skyhook damper lag {lag * 1e3:g} ms"] = dataclasses.replace(section, skyhook_lag=lag)
     for factor, label in ((0.5, "/ 2"), (2.0, "x 2")):  # the masses: choices (the gains are designed for each)

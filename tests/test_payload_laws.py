@@ -13,6 +13,7 @@ from test_payload import _section, _time
 from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Skyhook
 from uavdamp.platform.six_axis import strokes_matrix
+from uavdamp.settings import ConfigError
 from uavdamp.study import payload_laws as laws
 from uavdamp.study import payload_runs as runs
 
@@ -117,3 +118,13 @@ def test_a_lagged_damper_follows_a_step_of_the_demand_as_a_first_order_lag(lag_s
     if lag_s > 0:  # explicitly: 19 steps after the step the start is 31 - 30 exp(-19 h / lag)
         start_distance = 30.0 * np.exp(-19 * h / lag_s)
         assert got[29] == pytest.approx(31.0 - start_distance * lag_s / h * (1 - np.exp(-h / lag_s)), rel=1e-12)
+
+
+def test_the_skyhook_runs_off_damping_is_a_key_and_their_c_on_lie_above_it():
+    """Default: c_off the least candidate (1 N s/m), c_on the others; skyhook_c_off_n_s_m 3: c_on 10, 30, 100; a
+    c_off at or above every candidate leaves no c_on and is refused, naming the key."""
+    assert laws.law_c_on(_section()) == [3.0, 10.0, 30.0, 100.0] and _section().c_off == 1.0
+    assert laws.law_c_on(_section(skyhook_c_off_n_s_m=3.0)) == [10.0, 30.0, 100.0]
+    assert laws.law_names(_section(skyhook_c_off_n_s_m=0.3)) == [f"skyhook_{c:g}" for c in (1, 3, 10, 30, 100)]
+    with pytest.raises(ConfigError, match="payload.skyhook_c_off_n_s_m"):
+        _section(skyhook_c_off_n_s_m=100.0)

@@ -145,10 +145,17 @@ class PayloadSection:
     damping: tuple[float, ...] = setting("damping_n_s_m", default=(1.0, 3.0, 10.0, 30.0, 100.0))  # N s m-1
     seed: int = setting(default=0)  # the gimbal IMU's noise
     skyhook_lag: float = setting("skyhook_lag_s", default=0.0)  # s, the skyhook damper's lag (0: ideal; choice)
+    # N s m-1, the skyhook runs' off damping (None: the least damping candidate; choice)
+    skyhook_c_off: float | None = setting("skyhook_c_off_n_s_m", default=None)
     threads: int = setting(default=1)  # joblib workers over the inputs (the rule's threads; not in the results)
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
+
+    @property
+    def c_off(self) -> float:
+        """N s m-1, the skyhook runs' off damping: ``skyhook_c_off_n_s_m``, or the least damping candidate."""
+        return float(min(self.damping) if self.skyhook_c_off is None else self.skyhook_c_off)
 
     def with_camera(self, structure) -> PayloadSection:
         """The section with the gimbal carrying the platform's camera (``platform.structure.camera_mass_kg`` and
@@ -170,6 +177,9 @@ class PayloadSection:
         require(ok, w + "time_step_s", f"({self.time_step_s} s) must divide the gimbal loop period {period} s")
         require(self.yz_stiffness > 0, w + "yz_stiffness_n_m", f"must be > 0, got {self.yz_stiffness}")
         require(self.skyhook_lag >= 0, w + "skyhook_lag_s", f"must be >= 0, got {self.skyhook_lag}")
+        off = self.skyhook_c_off
+        ok = off is None or (off > 0 and any(c > off for c in self.damping))
+        require(ok, w + "skyhook_c_off_n_s_m", f"must be > 0 and below a damping candidate (c_on), got {off}")
         c = self.damping
         ok = len(c) > 0 and len(set(c)) == len(c) and min(c) >= 0
         require(ok, w + "damping_n_s_m", f"needs distinct values >= 0 N s m-1, got {list(c)}")

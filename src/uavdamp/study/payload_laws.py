@@ -71,12 +71,11 @@ def skyhook_motion(
 
 
 def law_c_on(section) -> list[float]:
-    """The skyhook runs' c_on, N s m-1: every damping candidate above the least (c_off, a choice): the choice of
-    c_on swept over the candidates; [] when the section compares no gimbal on a six-axis isolator."""
+    """The skyhook runs' c_on, N s m-1: every damping candidate above c_off (`PayloadSection.c_off`, a choice):
+    the choice of c_on swept over the candidates; [] when the section compares no gimbal on a six-axis isolator."""
     if "gimbal" not in section.payloads or "six_axis" not in section.mounts:
         return []
-    c_off = min(section.damping)
-    return [float(c) for c in sorted(section.damping) if c > c_off]
+    return [float(c) for c in sorted(section.damping) if c > section.c_off]
 
 
 def law_names(section) -> list[str]:
@@ -89,7 +88,7 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
     `payload_runs.METRICS`, ``on_fraction`` and ``c_on`` (N s m-1), each (law,); {} without laws. `setup`: the
     payload comparison's (section, gimbal, gains, lever, camera)."""
     s = setup.section
-    c_off, rows = min(s.damping), []
+    c_off, rows = s.c_off, []
     for c_on in law_c_on(s):
         body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off, s.skyhook_lag)
         errors = s.gimbal.sensor_errors
@@ -112,6 +111,6 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
     lag = f", damper lag {section.skyhook_lag:g} s" if section.skyhook_lag > 0 else ", ideal damper"
     text = (
         "semi-active law on the six-axis isolator's elements, the gimbal on it: on-off skyhook between c_on and "
-        f"c_off {min(section.damping):g} N s m-1{lag}"
+        f"c_off {section.c_off:g} N s m-1{lag}"
     )
     return data, {"law": ("law", law_names(section), {"units": "1", "long_name": text})}
