@@ -52,6 +52,8 @@ rule levels:
         ),
     log:
         f"{OUT}/logs/levels.log",
+    benchmark:
+        f"{OUT}/benchmarks/levels.tsv"
     conda:
         ENV
     params:
