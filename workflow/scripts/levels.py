@@ -21,20 +21,10 @@ heli = survey.helicopter_lines(
     rotor["tail_blades"],
 )
 sources = {name: parse(StatedSource, spec, f"sources.{name}") for name, spec in p.sources.items()}
-logs = {name: io.open_dataset(path) for name, path in zip(p.logs, snakemake.input.logs, strict=True)}
-source_records = {name: survey.source_record(s, options.source_duration_s) for name, s in sources.items()}
-log_records = {name: survey.log_record(log, p.log_descriptions[name]) for name, log in logs.items()}
-records = {}
-for name, path in zip(p.runs, snakemake.input.runs, strict=True):
-    records[f"run {name}"] = survey.run_record(io.open_dataset(path), name, options.settle_s, heli)
+logs = {n: (io.open_dataset(path), p.log_descriptions[n]) for n, path in zip(p.logs, snakemake.input.logs, strict=True)}
+runs = {name: io.open_dataset(path) for name, path in zip(p.runs, snakemake.input.runs, strict=True)}
 cases = io.open_dataset(snakemake.input.cases)
-for case, use in p.cases.items():  # a case is read at the lines of what it takes its motion from
-    if "run" in use:
-        lines = heli
-    else:
-        lines = (source_records[use["source"]] if "source" in use else log_records[use["flight_log"]]).lines_hz
-    records[f"case {case}"] = survey.case_record(cases, case, lines)
-records |= {f"source {n}": r for n, r in source_records.items()} | {f"log {n}": r for n, r in log_records.items()}
+records = survey.collect(runs, cases, p.cases, sources, logs, options, heli)
 ds = survey.survey(records)
 ds.attrs["rotor_blades"] = rotor["blades"]
 workflow.log_info(f"levels:\n{survey.summary_table(ds)}")

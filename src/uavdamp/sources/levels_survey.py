@@ -227,3 +227,28 @@ def summary_table(ds: xr.Dataset) -> str:
         ratio, vibe_max = float(one.track_and_balance_ratio), float(one.vibe_m_s2.max())
         rows.append(f"{name:34s} {line:>14s} {hz:7.2f} {gv:8.3g} {vel:8.3g} {ratio:6.2f} {vibe_max:6.2f}")
     return "\n".join(rows)
+
+
+def collect(
+    runs: dict[str, xr.Dataset],
+    cases: xr.Dataset,
+    uses: dict[str, dict],
+    sources: dict[str, stated.StatedSource],
+    logs: dict[str, tuple[xr.Dataset, str]],
+    options: LevelsSection,
+    heli: dict[str, float],
+) -> dict[str, Record]:
+    """Every input's record, named "run NAME", "case NAME", "source NAME", "log NAME": helicopter runs at the
+    helicopter's lines `heli` (Hz); each case (`uses`: case -> its run, source or flight_log key) at the lines of
+    what it takes its motion from; stated sources over options.source_duration_s; logs (dataset, description)."""
+    from_sources = {n: source_record(s, options.source_duration_s) for n, s in sources.items()}
+    from_logs = {n: log_record(log, text) for n, (log, text) in logs.items()}
+    records = {f"run {n}": run_record(run, n, options.settle_s, heli) for n, run in runs.items()}
+    for case, use in uses.items():
+        if "run" in use:
+            lines = heli
+        else:
+            lines = (from_sources[use["source"]] if "source" in use else from_logs[use["flight_log"]]).lines_hz
+        records[f"case {case}"] = case_record(cases, case, lines)
+    records |= {f"source {n}": r for n, r in from_sources.items()}
+    return records | {f"log {n}": r for n, r in from_logs.items()}
