@@ -138,21 +138,3 @@ def test_track_and_balance_ratio():
     assert float(cmp.damage_ratio) == pytest.approx(1 / 3, rel=1e-12)
     with pytest.raises(ValueError, match="'4/rev' is not among"):
         L.track_and_balance(ds, line="4/rev")
-
-
-def test_motion_levels_of_a_displacement_sine():
-    """A 28.3 Hz lateral displacement sine of 0.01 mm sampled at 1 kHz: its line at (2 pi f)^2 d = 0.3162 m s-2 =
-    0.03224 g (hand value); its VIBE the closed form of that acceleration within 1e-3 (the five-point derivative's
-    gain error (2 pi f dt)^4 / 90 = 1.1e-5; the 2 Hz filter's ripple at 2f, about 2 / 2f = 3.5 % of the mean
-    square, averages out over the 9 s kept); named 1/rev, its velocity 2 pi f d = 0.0700 in/s is 0.350 x the
-    limit."""
-    dt, f, d = 1e-3, 28.3, 1e-5
-    t = np.arange(0, 10.0, dt)
-    x = np.stack([0 * t, d * np.sin(2 * np.pi * f * t), 0 * t])
-    ds = L.motion_levels(x, dt, {"4/rev": f})
-    assert float(ds.accel_g.sel(line="4/rev", axis="y")) == pytest.approx(0.03224, abs=1e-5)
-    want = _vibe_closed_form((2 * np.pi * f) ** 2 * d, f, dt)
-    assert float(ds.vibe_m_s2.sel(axis="y")) == pytest.approx(want, rel=1e-3)
-    assert "track_and_balance_ratio" not in ds
-    ds = L.motion_levels(x, dt, {"1/rev": f})
-    assert float(ds.track_and_balance_ratio) == pytest.approx(0.35002, rel=1e-4)

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from test_levels import _vibe_closed_form
 
 from uavdamp.settings import ConfigError, parse
 from uavdamp.sources import levels as L
@@ -116,3 +117,20 @@ def test_lines_a_short_record_cannot_resolve_are_left_out_in_order():
     disp = np.stack([1e-3 * np.sin(2 * np.pi * 10 * t), 0 * t, 0 * t])
     ds = S.survey({"case": S.Record("case", "", DT, lines, disp)})
     assert list(ds.line_name.sel(input="case").values) == ["peak x", "peak z"]
+
+
+def test_a_displacement_sines_levels_vibe_and_track_and_balance():
+    """A 28.3 Hz lateral displacement sine of 0.01 mm sampled at 1 kHz: its line at (2 pi f)^2 d = 0.3162 m s-2 =
+    0.03224 g (hand value); its VIBE the closed form of that acceleration within 1e-3 (the five-point derivative's
+    gain error (2 pi f dt)^4 / 90 = 1.1e-5; the 2 Hz filter's ripple at 2f, about 2 / 2f = 3.5 % of the mean
+    square, averages out over the 9 s kept); named 1/rev, its velocity 2 pi f d = 0.0700 in/s is 0.350 x the
+    limit (named 4/rev: no ratio)."""
+    dt, f, d = 1e-3, 28.3, 1e-5
+    t = np.arange(0, 10.0, dt)
+    x = np.stack([0 * t, d * np.sin(2 * np.pi * f * t), 0 * t])
+    ds = S.survey({"a": S.Record("case", "", dt, {"4/rev": f}, x), "b": S.Record("case", "", dt, {"1/rev": f}, x)})
+    assert float(ds.accel_g.sel(input="a", line=0, axis="y")) == pytest.approx(0.03224, abs=1e-5)
+    want = _vibe_closed_form((2 * np.pi * f) ** 2 * d, f, dt)
+    assert float(ds.vibe_m_s2.sel(input="a", axis="y")) == pytest.approx(want, rel=1e-3)
+    assert np.isnan(float(ds.track_and_balance_ratio.sel(input="a")))
+    assert float(ds.track_and_balance_ratio.sel(input="b")) == pytest.approx(0.35002, rel=1e-4)

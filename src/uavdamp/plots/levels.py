@@ -71,13 +71,13 @@ def levels_figure(ds: xr.Dataset) -> Figure:
             seen.add(cat)
             if g < LIMITS["g"][0]:
                 ax_g.plot(LIMITS["g"][0], row, "<", color=colour, ms=6)
-    _bars(ax_v, rows, ds.track_and_balance_ratio.values * TRACK_AND_BALANCE_LIMIT_IN_S, "tab:red", LIMITS["in_s"])
+    _stems(ax_v, rows, ds.track_and_balance_ratio.values * TRACK_AND_BALANCE_LIMIT_IN_S, "tab:red", LIMITS["in_s"])
     for x, text, style in (
         (TRACK_AND_BALANCE_LIMIT_IN_S, "track-and-balance limit", "--"),
         (TRACK_AND_BALANCE_DAMAGE_IN_S, "may damage the aircraft", ":"),
     ):
         ax_v.axvline(x, color="black", ls=style, lw=1, label=f"{x:g} in/s: {text}")
-    _bars(ax_vibe, rows, ds.vibe_m_s2.max("axis").values, "tab:grey", LIMITS["vibe"])
+    _stems(ax_vibe, rows, ds.vibe_m_s2.max("axis").values, "tab:grey", LIMITS["vibe"])
     for (label, x), style in zip(VIBE_GUIDANCE_M_S2.items(), ("-", "--", ":"), strict=True):
         ax_vibe.axvline(x, color="black", ls=style, lw=1, label=f"{x:g} m/s²: {label}")
     ax_g.set_yticks(rows, inputs)
@@ -96,7 +96,7 @@ def levels_figure(ds: xr.Dataset) -> Figure:
     return fig
 
 
-def _bars(ax, rows: np.ndarray, values: np.ndarray, colour: str, limits: tuple[float, float]) -> None:
+def _stems(ax, rows: np.ndarray, values: np.ndarray, colour: str, limits: tuple[float, float]) -> None:
     """A dot at each row's value with a stem from the panel's left edge (NaN: none; below the edge: a triangle on
     it)."""
     ok = np.isfinite(values)

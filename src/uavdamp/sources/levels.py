@@ -212,20 +212,3 @@ def track_and_balance(levels: xr.Dataset, *, line: str = "1/rev", axis: str = "y
             ),
         }
     )
-
-
-def motion_levels(displacement_m, dt: float, lines_hz: dict[str, float], *, axes=AXES) -> xr.Dataset:
-    """A translation record's (axis, n; m, every dt s) levels per line (`line_levels`, located) and its VIBE per
-    axis (`vibe` of `acceleration_from_displacement`), with the lateral 1/rev against the track-and-balance limit
-    when the lines hold "1/rev" and the axes "y"."""
-    x = np.atleast_2d(np.asarray(displacement_m, dtype=float))
-    ds = line_levels(x, dt, lines_hz, axes=axes)
-    ds["vibe_m_s2"] = (
-        "axis",
-        vibe(acceleration_from_displacement(x, dt), dt),
-        {"units": "m s-2", "long_name": "ArduPilot VIBE of the translational acceleration (steady level)"},
-    )
-    if "1/rev" in ds.line.values and "y" in axes:
-        ratio = track_and_balance(ds).limit_ratio
-        ds["track_and_balance_ratio"] = ratio
-    return ds
