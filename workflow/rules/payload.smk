@@ -55,3 +55,37 @@ rule payload:
         platform=PLATFORM_MODEL,
     script:
         "../scripts/payload.py"
+
+
+# What the six-axis isolator's best damping depends on for the gimbal: the reference table's construct on the
+# payload, in closed form, per mount DOF, frequency, element stiffness and damping (src/uavdamp/study/payload_table.py).
+PAYLOAD_TABLE = canonical(
+    {k: config["payload"][k] for k in ("gimbal", "six_axis", "table")}
+)
+digest(
+    "payload_table",
+    {"payload": PAYLOAD_TABLE, "structure": canonical(config["platform"]["structure"])},
+)
+
+
+rule payload_table:
+    output:
+        table=f"{OUT}/payload/table.nc",
+        figure=report(
+            f"{OUT}/figures/payload_table.png",
+            caption="../report/payload_table.rst",
+            category="Payload",
+            labels={"figure": "the six-axis isolator's best damping for the gimbal"},
+        ),
+    log:
+        f"{OUT}/logs/payload_table.log",
+    benchmark:
+        f"{OUT}/benchmarks/payload_table.tsv"
+    conda:
+        ENV
+    params:
+        digest=DIGESTS["payload_table"],
+        payload=PAYLOAD_TABLE,
+        structure=canonical(config["platform"]["structure"]),
+    script:
+        "../scripts/payload_table.py"

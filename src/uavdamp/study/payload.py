@@ -65,6 +65,8 @@ from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face
     six_axis_isolator,
     yz_isolator,
 )
+from uavdamp.study.payload_table import TableSection
+from uavdamp.study.payload_table import check as check_table
 
 PAYLOADS = ("paper_head", "balanced_head", "gimbal")
 MOUNTS = ("rigid", "yz", "six_axis")
@@ -151,6 +153,7 @@ class PayloadSection:
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
+    table: TableSection = setting(default=TableSection())  # the closed-form table of the best C (payload_table)
 
     @property
     def c_off(self) -> float:
@@ -189,6 +192,7 @@ class PayloadSection:
             six_axis_isolator(self, c[0])
         except ValueError as error:
             raise ConfigError(f"{w}six_axis: the isolator cannot carry the payload ({error})") from None
+        check_table(self)
 
     @property
     def middle_damping(self) -> float:
