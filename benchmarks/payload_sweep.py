@@ -1,13 +1,15 @@
 """The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
 accelerometer range, its rate-loop crossover, its gyro's bias, a camera imbalance, the six-axis isolator's
-stiffness (its modes), the camera's and the isolated plate's masses, and the skyhook runs' off damping and lag.
+stiffness (its modes), the camera's and the isolated plate's masses, the skyhook runs' off damping and lag, and the
+scheduled law's eligible damping (the slowest decay time it allows).
 
     python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc] [--only TEXT ...]
 
 Reads the merged config files (default config/config.yaml) and the study's cases written by a run of `all`; for
 each variant prints the gimbal's line-of-sight rms (µrad) per input on the rigid mount and on each isolator at its
-best constant damping (and that C), and under on-off skyhook on the six-axis isolator at its best c_on, as a Markdown
-table. The numbers in docs/stages/payload.md come from it.
+best constant damping (and that C), under on-off skyhook on the six-axis isolator at its best c_on, and under the
+scheduled law (its mean C over the settled window) with the variant's own payload table, as a Markdown table.
+The numbers in docs/stages/payload.md come from it.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from uavdamp.camera.optics import CameraModel
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse, view
 from uavdamp.sources.stated import StatedSource
-from uavdamp.study import payload
+from uavdamp.study import payload, payload_table
 
 URAD = 1e6
 
@@ -80,6 +82,12 @@ def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
         out[f"gyro bias {deg_s:g} deg/s"] = gimbal(gyro_bias=(np.radians(deg_s),) * 3)
     for c_off in (0.3, 3.0):  # the skyhook runs' off damping (choice: the least candidate, 1 N s/m)
         out[f"skyhook c_off {c_off:g} N s/m"] = dataclasses.replace(section, skyhook_c_off=c_off)
+    for limit in (1.0, 2.5, float("inf")):  # the scheduled law's eligible C (choice: decay within the 0.5 s update)
+        chosen = dataclasses.replace(section.schedule, max_decay_time=limit)
+        out[f"scheduled max decay time {limit:g} s"] = dataclasses.replace(section, schedule=chosen)
+    for c in (3.0, 30.0):  # the scheduled law's C before its first estimate (choice: 10 N s/m)
+        chosen = dataclasses.replace(section.schedule, initial_damping=c)
+        out[f"scheduled initial C {c:g} N s/m"] = dataclasses.replace(section, schedule=chosen)
     for lag in (0.01, 0.03):  # the skyhook runs' damper: an MR damper's response time is 10-30 ms (assumption)
         out[f"skyhook damper lag {lag * 1e3:g} ms"] = dataclasses.replace(section, skyhook_lag=lag)
     for factor, label in ((0.5, "/ 2"), (2.0, "x 2")):  # the masses: choices (the gains are designed for each)
@@ -105,14 +113,16 @@ def main() -> None:
     cases = io.open_dataset(args.cases)
     found = payload.inputs(cases, sources, base)
     mounts = [m for m in base.mounts if m != "rigid"]
-    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "six_axis skyhook (best c_on)", "s"]
+    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "six_axis skyhook (best c_on)"]
+    head += ["six_axis scheduled (mean C)", "s"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
     chosen = variants(base, args.rest)
     if args.only:
         chosen = {k: v for k, v in chosen.items() if k.startswith("baseline") or any(o in k for o in args.only)}
     for name, section in chosen.items():
         start = time.perf_counter()
-        ds = payload.compare_inputs(found, section, platform, camera)
+        table = payload_table.table_dataset(section)  # the variant's own: the scheduled law reads it
+        ds = payload.compare_inputs(found, section, platform, camera, table)
         took = time.perf_counter() - start
         for i in ds.input.values:
             los = ds.los_std.sel(input=i, payload="gimbal") * URAD
@@ -121,10 +131,13 @@ def main() -> None:
                 best = float(ds.best_damping.sel(input=i, payload="gimbal", mount=m))
                 cells.append(f"{float(los.sel(mount=m, damping=best)):.0f} ({best:g})")
             if "law_los_std" in ds:
-                law = ds.law_los_std.sel(input=i).values * URAD
-                c_on = ds.law_c_on.sel(input=i).values if "input" in ds.law_c_on.dims else ds.law_c_on.values
+                sky = ds.law.str.startswith("skyhook").values
+                law = ds.law_los_std.sel(input=i).values[sky] * URAD
+                c_on = ds.law_c_on.sel(input=i).values[sky]
                 best = int(np.argmin(law))
                 cells.append(f"{law[best]:.0f} ({c_on[best]:g})")
+                scheduled = ds.sel(input=i, law="scheduled")
+                cells.append(f"{float(scheduled.law_los_std) * URAD:.0f} ({float(scheduled.law_damping_mean):.2g})")
             print(f"| {name} | {i} | " + " | ".join(cells) + f" | {took:.0f} |")
 
 

@@ -1,62 +1,3 @@
-# Which payload and isolator keep the camera sharp: the paper's head, the same head balanced and a gyro-stabilised
-# gimbal, each on a rigid, the paper's Y-Z and a six-axis isolator, at constant damping candidates, on the study's
-# cases and the stated sources payload.sources names (src/uavdamp/study/payload.py).
-PAYLOAD = canonical(
-    {k: v for k, v in config["payload"].items() if k != "threads"}
-)  # its threads change no number: not a parameter
-PAYLOAD_SOURCES = canonical(
-    {n: config["sources"][n] for n in config["payload"]["sources"]}
-)
-digest(
-    "payload",
-    {
-        "payload": PAYLOAD,
-        "sources": PAYLOAD_SOURCES,
-        "camera": CAMERA,
-        "platform": PLATFORM_MODEL,
-    },
-    "excitation",
-)
-
-
-rule payload:
-    input:
-        cases=f"{OUT}/excitation/cases.nc",
-    output:
-        comparison=f"{OUT}/payload/comparison.nc",
-        design=f"{OUT}/payload/design.nc",
-        figure=report(
-            f"{OUT}/figures/payload_line_of_sight.png",
-            caption="../report/payload.rst",
-            category="Payload",
-            labels={"figure": "line of sight per payload, mount and damping"},
-        ),
-        transmissibility=report(
-            f"{OUT}/figures/payload_transmissibility.png",
-            caption="../report/payload_transmissibility.rst",
-            category="Payload",
-            labels={
-                "figure": "mount motion to line of sight per mount, fixed camera or gimbal"
-            },
-        ),
-    log:
-        f"{OUT}/logs/payload.log",
-    benchmark:
-        f"{OUT}/benchmarks/payload.tsv"
-    conda:
-        ENV
-    threads: config["payload"]["threads"]
-    params:
-        digest=DIGESTS["payload"],
-        expects=expects({f"{OUT}/excitation/cases.nc": "excitation"}),
-        payload=PAYLOAD,
-        sources=PAYLOAD_SOURCES,
-        camera=CAMERA,
-        platform=PLATFORM_MODEL,
-    script:
-        "../scripts/payload.py"
-
-
 # What the six-axis isolator's best damping depends on for the gimbal: the reference table's construct on the
 # payload, in closed form, per mount DOF, frequency, element stiffness and damping (src/uavdamp/study/payload_table.py).
 PAYLOAD_TABLE = canonical(
@@ -89,3 +30,69 @@ rule payload_table:
         structure=canonical(config["platform"]["structure"]),
     script:
         "../scripts/payload_table.py"
+
+
+# Which payload and isolator keep the camera sharp: the paper's head, the same head balanced and a gyro-stabilised
+# gimbal, each on a rigid, the paper's Y-Z and a six-axis isolator, at constant damping candidates, on the study's
+# cases and the stated sources payload.sources names (src/uavdamp/study/payload.py).
+PAYLOAD = canonical(
+    {k: v for k, v in config["payload"].items() if k != "threads"}
+)  # its threads change no number: not a parameter
+PAYLOAD_SOURCES = canonical(
+    {n: config["sources"][n] for n in config["payload"]["sources"]}
+)
+digest(
+    "payload",
+    {
+        "payload": PAYLOAD,
+        "sources": PAYLOAD_SOURCES,
+        "camera": CAMERA,
+        "platform": PLATFORM_MODEL,
+    },
+    "excitation",
+    "payload_table",
+)
+
+
+rule payload:
+    input:
+        cases=f"{OUT}/excitation/cases.nc",
+        table=f"{OUT}/payload/table.nc",
+    output:
+        comparison=f"{OUT}/payload/comparison.nc",
+        design=f"{OUT}/payload/design.nc",
+        figure=report(
+            f"{OUT}/figures/payload_line_of_sight.png",
+            caption="../report/payload.rst",
+            category="Payload",
+            labels={"figure": "line of sight per payload, mount and damping"},
+        ),
+        transmissibility=report(
+            f"{OUT}/figures/payload_transmissibility.png",
+            caption="../report/payload_transmissibility.rst",
+            category="Payload",
+            labels={
+                "figure": "mount motion to line of sight per mount, fixed camera or gimbal"
+            },
+        ),
+    log:
+        f"{OUT}/logs/payload.log",
+    benchmark:
+        f"{OUT}/benchmarks/payload.tsv"
+    conda:
+        ENV
+    threads: config["payload"]["threads"]
+    params:
+        digest=DIGESTS["payload"],
+        expects=expects(
+            {
+                f"{OUT}/excitation/cases.nc": "excitation",
+                f"{OUT}/payload/table.nc": "payload_table",
+            }
+        ),
+        payload=PAYLOAD,
+        sources=PAYLOAD_SOURCES,
+        camera=CAMERA,
+        platform=PLATFORM_MODEL,
+    script:
+        "../scripts/payload.py"

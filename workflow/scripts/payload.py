@@ -18,10 +18,12 @@ section = section.with_camera(platform.structure)  # the one camera every payloa
 camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}
 cases = io.open_dataset(snakemake.input.cases)
-ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera)
+table = io.open_dataset(snakemake.input.table)  # the payload table: the scheduled law's
+ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera, table)
 design = payload_design.design_dataset(section)
-for name in ("los_std", "best_damping"):
-    workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
+for name in ("los_std", "best_damping", "law_los_std", "scheduled_damping"):
+    if name in ds:
+        workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 config = {"payload": p.payload, "sources": p.sources, "camera": p.camera, "platform": p.platform}
 command = workflow.snakemake_command(snakemake)
 with job.writing():  # under the outputs' lock; a later run's outputs are never replaced

@@ -35,12 +35,10 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
 import xarray as xr
-from scipy import signal
 
 from uavdamp import parallel
 from uavdamp.camera.optics import CameraModel
@@ -62,9 +60,11 @@ from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face
     gimbal_params,
     gimbal_payload,
     isolator,
+    resampled,
     six_axis_isolator,
     yz_isolator,
 )
+from uavdamp.study.payload_schedule import ScheduleSection, Table
 from uavdamp.study.payload_table import TableSection
 from uavdamp.study.payload_table import check as check_table
 
@@ -153,6 +153,7 @@ class PayloadSection:
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
+    schedule: ScheduleSection = setting(default=ScheduleSection())  # the scheduled law (payload_schedule)
     table: TableSection = setting(default=TableSection())  # the closed-form table of the best C (payload_table)
 
     @property
@@ -230,9 +231,10 @@ class _Setup:
     lever: tuple[float, float, float]  # m, the gimbal's axes from the mount's reference point
     plants: dict  # head payload -> its Plants
     camera: CameraModel
+    table: Table | None = None  # the payload table at the six-axis isolator's K: the scheduled law (None: none)
 
 
-def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraModel) -> _Setup:
+def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None) -> _Setup:
     heads = [p for p in section.payloads if p in HEADS]
     if heads and "yz" in section.mounts:
         lo, hi = platform.damping_min, platform.damping_max
@@ -240,7 +242,9 @@ def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraMode
         require(ok, "payload.damping_n_s_m", f"the heads' damper takes [{lo}, {hi}] N s m-1: {section.damping}")
     plants = {p: Plants(head_platform(platform, p, section.time_step_s)) for p in heads}
     g = gimbal_params(section)
-    return _Setup(section, g, design(g), (0.0, 0.0, gimbal_height(section)), plants, camera)
+    limit = section.schedule.max_decay_time
+    at_k = None if table is None else Table.of(table, section.six_axis.stiffness[2], limit)
+    return _Setup(section, g, design(g), (0.0, 0.0, gimbal_height(section)), plants, camera, at_k)
 
 
 def _input(time, mount: MountMotion, section: PayloadSection) -> tuple[np.ndarray, MountMotion]:
@@ -254,25 +258,6 @@ def _input(time, mount: MountMotion, section: PayloadSection) -> tuple[np.ndarra
     if grid.size < n:
         raise ValueError(f"payload.duration_s: {section.duration_s} s is longer than the input ({grid[-1]} s)")
     return grid[:n], MountMotion(moved.translation[:, :n], moved.rotation[:, :n])
-
-
-def resampled(time: np.ndarray, mount: MountMotion, h: float) -> tuple[np.ndarray, MountMotion]:
-    """The motion (uniform `time` from 0, s) on the grid 0, h, 2h, ... by polyphase band-limited resampling
-    (`scipy.signal.resample_poly`, the input's step over h a ratio of integers up to 1000; ValueError otherwise)
-    through a Kaiser (beta 12, about 120 dB) low-pass at 0.9 of the input's Nyquist frequency, 40 input samples
-    either side: the acceleration of a line below 0.2 of the Nyquist frequency within 0.1 %, at 0.2 within 1 %
-    (tests/test_payload.py); scipy's default filter (beta 5) left images whose second derivative was 86 % of a
-    7 Hz line's sampled at 200 Hz."""
-    dt = float(time[1] - time[0])
-    ratio = Fraction(dt / h).limit_denominator(1000)
-    if not math.isclose(float(ratio), dt / h, rel_tol=1e-9):
-        raise ValueError(f"payload.time_step_s: {h} s is not a rational fraction of the input's step {dt} s")
-    up, down = ratio.numerator, ratio.denominator
-    taps = signal.firwin(2 * 40 * max(up, down) + 1, 0.9 / max(up, down), window=("kaiser", 12.0))
-    series = np.vstack([mount.translation, mount.rotation])
-    out = signal.resample_poly(series, up, down, axis=1, window=taps, padtype="line")
-    n = min(out.shape[1], int(math.floor(time[-1] / h + 1e-9)) + 1)
-    return np.arange(n) * h, MountMotion(out[:3, :n], out[3:, :n])
 
 
 def _series(setup: _Setup, t: np.ndarray, moved: MountMotion, payload: str, mount: str, c: float) -> runs.Series:
@@ -314,14 +299,15 @@ def _floor(setup: _Setup) -> np.ndarray:
 
 
 def compare_payloads(
-    time, mount: MountMotion, section: PayloadSection, platform: PlatformParams, camera: CameraModel
+    time, mount: MountMotion, section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None
 ) -> xr.Dataset:
     """Every payload x mount x damping candidate (module docstring) under the mount motion (time s, any start;
     the first ``duration_s`` of it on the ``time_step_s`` grid): the metrics of `payload_runs.METRICS` over
     (payload, mount, damping), NaN where not modelled (`modelled`), the rigid mount's the same at every C;
     ``best_damping`` (payload, mount) the C of the least ``los_std`` (NaN: rigid, not modelled) and
-    ``floor_los_std`` (payload) the LOS rms on a still mount. Assumptions: module docstring."""
-    setup = _setup(section, platform, camera)
+    ``floor_los_std`` (payload) the LOS rms on a still mount; with the payload table `table` (``payload/table.nc``)
+    also the scheduled law (`uavdamp.study.payload_schedule`). Assumptions: module docstring."""
+    setup = _setup(section, platform, camera, table)
     t, moved = _input(time, mount, section)
     return _dataset(setup, _values(setup, t, moved), _floor(setup), laws.law_values(setup, t, moved))
 
@@ -350,7 +336,7 @@ def inputs(cases: xr.Dataset, sources: dict[str, StatedSource], section: Payload
 
 
 def compare_inputs(
-    found: list[PayloadInput], section: PayloadSection, platform: PlatformParams, camera: CameraModel
+    found: list[PayloadInput], section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None
 ) -> xr.Dataset:
     """`compare_payloads` of every input, stacked over ``input`` (with ``input_description``); the still mount's
     ``floor_los_std`` once (it does not depend on the input). The inputs run on ``threads`` joblib workers
@@ -358,7 +344,7 @@ def compare_inputs(
     require(len(found) > 0, "payload.sources", "no input: the study has no case and payload.sources is empty")
     floor = _floor(_setup(section, platform, camera))
     gridded = [_input(i.time, i.mount, section) for i in found]  # each input resampled once
-    tasks = [(_one_input, (section, platform, camera, t, moved, floor)) for t, moved in gridded]
+    tasks = [(_one_input, (section, platform, camera, t, moved, floor, table)) for t, moved in gridded]
     per_input = parallel.run(tasks, section.threads)
     names = [i.name for i in found]
     ds = xr.concat([d.drop_vars("floor_los_std") for d in per_input], dim="input", combine_attrs="override")
@@ -370,9 +356,9 @@ def compare_inputs(
     return ds
 
 
-def _one_input(section, platform, camera, t: np.ndarray, moved: MountMotion, floor: np.ndarray) -> xr.Dataset:
+def _one_input(section, platform, camera, t, moved: MountMotion, floor: np.ndarray, table) -> xr.Dataset:
     """One gridded input's comparison (a task of `compare_inputs`: its own setup, so that it runs in a worker)."""
-    setup = _setup(section, platform, camera)
+    setup = _setup(section, platform, camera, table)
     return _dataset(setup, _values(setup, t, moved), floor, laws.law_values(setup, t, moved))
 
 

@@ -17,11 +17,13 @@ from collections.abc import Callable
 
 import numpy as np
 
+from uavdamp.camera.criteria import window_mask
 from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Skyhook
-from uavdamp.platform.six_axis import SixAxisIsolator, strokes_matrix
+from uavdamp.platform.six_axis import DOFS, SixAxisIsolator, strokes_matrix
 from uavdamp.platform.six_axis_run import run
 from uavdamp.study.payload_runs import BodyMotion, gimbal_series, metric_attrs, run_metrics, six_axis_isolator
+from uavdamp.study.payload_schedule import schedule, scheduled_run
 
 
 def skyhook_schedule(
@@ -62,12 +64,17 @@ def skyhook_motion(
     rates = np.hstack([slopes, slopes[:, -1:]]).T  # (n, 6), as `run` takes them
     law = Skyhook(c_on, c_off, h)
     ds = run(isolator, time, u[:3], u[3:], skyhook_schedule(isolator, time, rates, law, lag_s))
+    on = float(np.mean(ds.damping.values[:, :-1] > 0.5 * (c_on + c_off))) if c_on != c_off else 1.0
+    return body_motion(ds, h), on
+
+
+def body_motion(ds, h: float) -> BodyMotion:
+    """The payload's `BodyMotion` from a `six_axis_run.run` dataset on a grid of step h s: its coordinates and
+    rates, the accelerations their central differences, the peak |element stroke|."""
     coordinates = np.vstack([ds.payload_translation.values, ds.payload_rotation.values])
     body_rates = np.vstack([ds.payload_velocity.values, ds.payload_angular_rate.values])
     accelerations = np.gradient(body_rates, h, axis=1, edge_order=2)
-    peak = float(np.abs(ds.element_stroke.values).max())
-    on = float(np.mean(ds.damping.values[:, :-1] > 0.5 * (c_on + c_off))) if c_on != c_off else 1.0
-    return BodyMotion(coordinates, body_rates, accelerations, peak), on
+    return BodyMotion(coordinates, body_rates, accelerations, float(np.abs(ds.element_stroke.values).max()))
 
 
 def law_c_on(section) -> list[float]:
@@ -84,33 +91,71 @@ def law_names(section) -> list[str]:
 
 
 def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
-    """Per law of `law_names`, the gimbal on the six-axis isolator under the gridded input: every metric of
-    `payload_runs.METRICS`, ``on_fraction`` and ``c_on`` (N s m-1), each (law,); {} without laws. `setup`: the
-    payload comparison's (section, gimbal, gains, lever, camera)."""
+    """Per law, the gimbal on the six-axis isolator under the gridded input: every metric of
+    `payload_runs.METRICS`, ``on_fraction``, ``c_on`` and ``damping_mean`` (N s m-1; NaN where a law has none),
+    each (law,), and ``name``: the skyhook runs of `law_names`, then ``scheduled`` (`uavdamp.study.
+    payload_schedule`) when the setup has a payload table, its decisions as ``schedule`` (a `Schedule`); {}
+    without laws. `setup`: the payload comparison's."""
     s = setup.section
     c_off, rows = s.c_off, []
+    errors = s.gimbal.sensor_errors
     for c_on in law_c_on(s):
         body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off, s.skyhook_lag)
-        errors = s.gimbal.sensor_errors
         series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
-        rows.append(run_metrics(t, series, setup.camera, s.settle_s, s.duration_s) | {"on_fraction": on, "c_on": c_on})
-    return {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
+        metrics = run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)
+        rows.append(metrics | {"on_fraction": on, "c_on": c_on, "damping_mean": math.nan, "name": f"skyhook_{c_on:g}"})
+    plan = None
+    if law_c_on(s) and setup.table is not None:
+        plan = schedule(t, moved, setup.table, s.schedule)
+        body = body_motion(scheduled_run(six_axis_isolator(s, c_off), t, moved, plan.per_sample), t[1] - t[0])
+        series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
+        metrics = run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)
+        mean = float(np.mean(plan.per_sample[window_mask(t, s.settle_s, s.duration_s)]))
+        rows.append(metrics | {"on_fraction": math.nan, "c_on": math.nan, "damping_mean": mean, "name": "scheduled"})
+    out = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
+    return out | ({"schedule": plan} if plan is not None else {})
 
 
 def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
     """(data variables law_NAME (law), the law coordinate) of `law_values`' output for a dataset."""
     if not values:
         return {}, {}
-    data = {f"law_{k}": (("law",), v, metric_attrs(k)) for k, v in values.items() if k not in ("on_fraction", "c_on")}
+    extra = ("on_fraction", "c_on", "damping_mean", "name", "schedule")
+    data = {f"law_{k}": (("law",), v, metric_attrs(k)) for k, v in values.items() if k not in extra}
     data["law_on_fraction"] = (
         ("law",),
         values["on_fraction"],
-        {"units": "1", "long_name": "share of element-steps at c_on"},
+        {"units": "1", "long_name": "share of element-steps at c_on (skyhook)"},
     )
     data["law_c_on"] = (("law",), values["c_on"], {"units": "N s m-1", "long_name": "skyhook's on damping"})
+    data["law_damping_mean"] = (
+        ("law",),
+        values["damping_mean"],
+        {"units": "N s m-1", "long_name": "scheduled law's mean damping over the settled window"},
+    )
     lag = f", damper lag {section.skyhook_lag:g} s" if section.skyhook_lag > 0 else ", ideal damper"
     text = (
         "semi-active law on the six-axis isolator's elements, the gimbal on it: on-off skyhook between c_on and "
-        f"c_off {section.c_off:g} N s m-1{lag}"
+        f"c_off {section.c_off:g} N s m-1{lag}; scheduled: C from the tracked lines through the payload table"
     )
-    return data, {"law": ("law", law_names(section), {"units": "1", "long_name": text})}
+    coords = {"law": ("law", [str(n) for n in values["name"]], {"units": "1", "long_name": text})}
+    if "schedule" in values:
+        plan = values["schedule"]
+        coords["update_time"] = ("update_time", plan.times, {"units": "s", "long_name": "scheduled law's update time"})
+        coords["dof"] = ("dof", list(DOFS), {"units": "1", "long_name": "mount DOF (x, y, z; rotations about them)"})
+        data["scheduled_damping"] = (
+            ("update_time",),
+            plan.damping,
+            {"units": "N s m-1", "long_name": "scheduled law's C from this update on (every element)"},
+        )
+        data["scheduled_line_freq"] = (
+            ("update_time", "dof"),
+            plan.lines[:, :, 0],
+            {"units": "Hz", "long_name": "dominant line of the mount's DOF the law tracked (NaN: none yet)"},
+        )
+        data["scheduled_line_amplitude"] = (
+            ("update_time", "dof"),
+            plan.lines[:, :, 1],
+            {"units": "1", "long_name": "its amplitude: m (x, y, z), rad (rotations)"},
+        )
+    return data, coords

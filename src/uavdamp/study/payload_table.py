@@ -22,6 +22,7 @@ reach only the line of sight's roll) has no optimum (NaN).
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -29,7 +30,7 @@ import numpy as np
 import xarray as xr
 
 from uavdamp.platform.gimbal import AXES, design
-from uavdamp.platform.six_axis import DOFS, rigid_body_modes, transmissibility
+from uavdamp.platform.six_axis import DOFS, rigid_body_modes, state_space, transmissibility
 from uavdamp.reference_table.criteria import grid_edge
 from uavdamp.reference_table.params import Axis
 from uavdamp.settings import ConfigError, require, setting
@@ -172,6 +173,17 @@ def modes(section) -> np.ndarray:
     return np.stack([rigid_body_modes(runs.six_axis_isolator(scaled(section, float(k)), 0.0))[0] for k in ks])
 
 
+def decay_times(section) -> np.ndarray:
+    """(stiffness, damping) the isolator's slowest 1/e decay time, s: max over its poles of -1 / Re(pole), at
+    each table stiffness and damping (how long a start-up or a change of C takes to reach the steady state)."""
+    t = section.table
+    out = np.empty((t.stiffness.array().size, t.damping.array().size))
+    for (j, k), (i, c) in itertools.product(enumerate(t.stiffness.array()), enumerate(t.damping.array())):
+        poles = np.linalg.eigvals(state_space(runs.six_axis_isolator(scaled(section, float(k)), float(c))).a)
+        out[j, i] = float(np.max(-1.0 / poles.real))
+    return out
+
+
 ROWS = {  # name: (dims, units, long_name)
     "criterion": (4, "rad", "line of sight sqrt(var pitch + var yaw), steady state, of the DOF's sine input"),
     "los_roll": (4, "rad", "line-of-sight roll rms, steady state, of the DOF's sine input"),
@@ -198,6 +210,7 @@ ROWS = {  # name: (dims, units, long_name)
         "mean over the band's frequencies of criterion_best_constant / criterion_opt (1: scheduling buys nothing)",
     ),
     "mode_frequency": (("stiffness", "mode"), "Hz", "six-axis isolator rigid-body mode (undamped)"),
+    "decay_time": (("stiffness", "damping"), "s", "the isolator's slowest 1/e decay time, max of -1 / Re(pole)"),
 }
 DIMS = {4: ("dof", "freq", "stiffness", "damping"), 3: ("dof", "freq", "stiffness")}
 
@@ -209,6 +222,7 @@ def table_dataset(section) -> xr.Dataset:
     bands = np.stack([t.band_mask(b) for b in t.named_bands.values()])
     crit, roll = criterion_cube(section)
     values = {"criterion": crit, "los_roll": roll, **optimum(crit, cs, bands), "mode_frequency": modes(section)}
+    values["decay_time"] = decay_times(section)
     data = {}
     for name, value in values.items():
         dims, units, long_name = ROWS[name]
