@@ -91,8 +91,16 @@ def scaled(section, stiffness: float):
 
 def check(section, where: str = "payload.table") -> None:
     """ConfigError naming the key when a table stiffness cannot carry the payload (a rocking mode unstable under
-    its weight) or a frequency reaches the gimbal loop's Nyquist frequency."""
+    its weight), a frequency reaches the gimbal loop's Nyquist frequency, or the six-axis isolator's own z
+    stiffness is not in the table (the scheduled law reads the table there)."""
     table = section.table
+    own = float(section.six_axis.stiffness[2])
+    ok = bool(np.any(np.isclose(table.stiffness.array(), own, rtol=1e-9)))
+    require(
+        ok,
+        f"{where}.stiffness_n_m",
+        f"must hold payload.six_axis.stiffness_n_m's z, {own} N m-1 (the scheduled law's K)",
+    )
     nyquist = section.gimbal.loop_rate_hz / 2
     top = float(table.freq.array()[-1])
     require(top < nyquist, f"{where}.freq_hz", f"must stay below the gimbal loop's Nyquist {nyquist} Hz, got {top}")
