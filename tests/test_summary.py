@@ -339,6 +339,39 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
     assert "120 µrad at c_on = 30 N s/m, +20 % against" in payload_page.payload_findings(worse)[0]
 
 
+def test_the_payload_findings_state_the_scheduled_law_apart_from_the_skyhook_runs():
+    """A scheduled law (60 µrad, mean C 5.5 N s/m) beside a skyhook run (75 µrad at c_on 30): the skyhook finding
+    names the skyhook run, not the scheduled law's lower value, and the scheduled law is stated with its mean C and
+    -40 % against the best constant C (100 µrad); its detrended value (30 µrad) beside the skyhook's (35)."""
+    los = np.full((1, 1, 1, 2), np.nan)
+    los[0, 0, 0] = [1e-4, 2e-3]
+    per_law = ("input", "law")
+    ds = xr.Dataset(
+        {
+            "los_std": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
+            "los_detrended_std": (("input", "payload", "mount", "damping"), [[[[40e-6, 60e-6]]]], {"units": "rad"}),
+            "law_los_std": (per_law, [[75e-6, 60e-6]], {"units": "rad"}),
+            "law_los_detrended_std": (per_law, [[35e-6, 30e-6]], {"units": "rad"}),
+            "law_c_on": (per_law, [[30.0, np.nan]], {"units": "N s m-1"}),
+            "law_damping_mean": (per_law, [[np.nan, 5.5]], {"units": "N s m-1"}),
+        },
+        coords={
+            "input": ["heli"],
+            "payload": ["gimbal"],
+            "mount": ["six_axis"],
+            "damping": [3.0, 30.0],
+            "law": ["skyhook_30", "scheduled"],
+        },
+    )
+    (finding,) = payload_page.payload_findings(ds)
+    assert "Skyhook on the six-axis isolator (gimbal): 75 µrad at c_on = 30 N s/m, -25 %" in finding
+    assert (
+        "The scheduled law (C from the tracked lines through the payload table; mean 5.5 N s/m): 60 µrad, -40 %"
+        in finding
+    )
+    assert "35 µrad under skyhook, 30 µrad under the scheduled law." in finding
+
+
 def test_the_payload_findings_state_the_gimbals_line_of_sight_without_the_slow_drift():
     """los_detrended_std of the gimbal on the six-axis isolator 40 and 60 µrad at C = 3 and 30: the finding names
     40 µrad at C = 3, and the skyhook runs' least (35 µrad)."""
