@@ -33,8 +33,9 @@ LABELS = {
 def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     """LOS rms (µrad, log) against the constant damping C (N s/m, log) per payload (colour) and mount (line
     style), one panel per input (`input`); the rigid mount, which has no damper, is a level line; the gimbal's
-    sensor-noise floor (`floor_los_std`) dash-dotted grey where present; values below FLOOR_URAD on the axis as
-    downward triangles."""
+    sensor-noise floor (`floor_los_std`) dash-dotted grey where present; the skyhook runs as stars at their c_on,
+    the scheduled law as a hollow diamond at its mean C; values below FLOOR_URAD on the axis as downward
+    triangles."""
     inputs = [str(i) for i in ds.input.values]
     ncols = min(3, len(inputs))
     nrows = int(np.ceil(len(inputs) / ncols))
@@ -57,6 +58,9 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
         if "law_los_std" in ds:  # on-off skyhook on the six-axis isolator, at its c_on
             y = ds.law_los_std.sel(input=name).values * URAD_PER_RAD
             ax.plot(ds.law_c_on.sel(input=name).values, np.maximum(y, FLOOR_URAD), "*", color=COLORS["gimbal"], ms=10)
+        if "law_damping_mean" in ds:  # the scheduled law, at its mean C
+            x = ds.law_damping_mean.sel(input=name).values
+            ax.plot(x, np.maximum(y, FLOOR_URAD), "D", mfc="none", mec=COLORS["gimbal"], mew=1.5, ms=7)
         ax.axhline(ANCHOR_URAD, color="k", lw=0.8, alpha=0.6)
         ax.annotate("±0.01° (175 µrad)", (1.0, ANCHOR_URAD), xycoords=("axes fraction", "data"), ha="right",
                     va="bottom", fontsize=7, alpha=0.8)  # fmt: skip
@@ -64,6 +68,8 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
             floor = float(ds.floor_los_std.sel(payload="gimbal")) * URAD_PER_RAD
             if floor > 0:
                 ax.axhline(floor, color="0.5", lw=0.8, ls="-.")
+                ax.annotate("gimbal's noise floor", (0.0, floor), xycoords=("axes fraction", "data"), ha="left",
+                            va="top", fontsize=7, color="0.4")  # fmt: skip
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_ylim(bottom=FLOOR_URAD)
@@ -84,8 +90,8 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
 
 
 def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
-    """Proxy entries: a colour per payload, a line style per mount, the skyhook runs and the noise floor (at most
-    8; the anchor line is labelled on the axes)."""
+    """Proxy entries: a colour per payload, a line style per mount, the skyhook runs and the scheduled law (at most
+    8; the anchor and the noise floor lines are labelled on the axes)."""
     handles = [Line2D([], [], color=COLORS.get(str(p)), lw=2) for p in ds.payload.values]
     labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
     handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]
@@ -93,9 +99,9 @@ def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
     if "law_los_std" in ds:
         handles.append(Line2D([], [], color=COLORS["gimbal"], ls="", marker="*", ms=10))
         labels.append(f"gimbal, six-axis, skyhook (x: c_on;\nc_off {number(float(ds.damping.min()))} N s/m)")
-    if "floor_los_std" in ds and "gimbal" in ds.payload.values:
-        handles.append(Line2D([], [], color="0.5", lw=0.8, ls="-."))
-        labels.append("gimbal's sensor-noise floor")
+    if "law_damping_mean" in ds:
+        handles.append(Line2D([], [], ls="", marker="D", mfc="none", mec=COLORS["gimbal"], mew=1.5, ms=7))
+        labels.append("gimbal, six-axis, scheduled law\n(x: its mean C)")
     return handles, labels
 
 
