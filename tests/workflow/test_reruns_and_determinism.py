@@ -21,7 +21,7 @@ from uavdamp import io
 
 pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
-# the payload stage reads the cases (excitation), the camera and the platform
+# the payload stage reads the cases (excitation), the payload table, the camera and the platform
 # the levels stage reads every helicopter run, the cases and the logs
 FLIGHT = {"helicopter_flight", "helicopter_trim", "helicopter_vibration", "excitation", "study", "payload", "levels"}
 HELICOPTER_ALL = {
@@ -67,8 +67,20 @@ EDITS = {
     "platform.structure.camera_mass_kg": (
         ("platform", "structure", "camera_mass_kg"),
         lambda v: v * 1.01,
+        {"platform_modes", "payload_table", "payload"} | GRID_DOWN,
+    ),
+    # the head's own bodies: not the gimbal's table (it carries only the camera)
+    "platform.structure.base_mass_kg": (
+        ("platform", "structure", "base_mass_kg"),
+        lambda v: v * 1.01,
         {"platform_modes", "payload"} | GRID_DOWN,
     ),
+    "payload.table.translation_amplitude_m": (
+        ("payload", "table", "translation_amplitude_m"),
+        lambda v: v * 2,
+        {"payload_table", "payload"},
+    ),
+    "payload.schedule.window_s": (("payload", "schedule", "window_s"), lambda v: v * 0.8, {"payload"}),
     "platform.response.duration_s": (("platform", "response", "duration_s"), lambda v: v + 0.5, {"platform_modes"}),
     "platform.isolator.damping_max_n_s_m": (
         ("platform", "isolator", "damping_max_n_s_m"),

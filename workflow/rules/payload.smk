@@ -3,10 +3,10 @@
 PAYLOAD_TABLE = canonical(
     {k: config["payload"][k] for k in ("gimbal", "six_axis", "table")}
 )
-digest(
-    "payload_table",
-    {"payload": PAYLOAD_TABLE, "structure": canonical(config["platform"]["structure"])},
-)
+PAYLOAD_CAMERA = canonical(
+    {k: config["platform"]["structure"][k] for k in ("camera_mass_kg", "camera_size_m")}
+)  # the one camera every payload carries: the rest of the structure is the paper's head
+digest("payload_table", {"payload": PAYLOAD_TABLE, "camera": PAYLOAD_CAMERA})
 
 
 rule payload_table:
@@ -27,7 +27,7 @@ rule payload_table:
     params:
         digest=DIGESTS["payload_table"],
         payload=PAYLOAD_TABLE,
-        structure=canonical(config["platform"]["structure"]),
+        camera=PAYLOAD_CAMERA,
     script:
         "../scripts/payload_table.py"
 

@@ -59,7 +59,7 @@ def table_figure(table: xr.Dataset, default_stiffness: float) -> Figure:
         top.set_title(f"{DOF_TITLES.get(dof, dof)}\nscheduling gain, default K:\n{gains}", fontsize=10)
         top.set(yscale="log", ylabel="best C per element (N s/m)")
         bottom.set(yscale="log", xlabel="frequency of the mount's sine (Hz)")
-        bottom.set_ylabel("LOS at the band's best constant C / at the best C")
+        bottom.set_ylabel("LOS, band's best constant C / best C")
         for ax in (top, bottom):
             ax.set_xscale("log")
             ax.grid(True, which="both", alpha=0.3)
