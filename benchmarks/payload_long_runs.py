@@ -1,13 +1,15 @@
-"""The payload stage's stated sources run longer than the study's 5 s: does the start-up transient of the six-axis
+"""The payload stage's inputs run longer than the study's 5 s: does the start-up transient of the six-axis
 isolator's rocking modes set which damping wins?
 
-    python benchmarks/payload_long_runs.py [CONFIG ...] [--duration 20] [--settle 10]
+    python benchmarks/payload_long_runs.py [CONFIG ...] [--duration 20] [--settle 10] [--runs DIR]
 
-The gimbal on the six-axis isolator under each of ``payload.sources`` for `--duration` s, scored from `--settle` s
-(the stage: 5 s from 1 s), at the constant damping candidates, under skyhook and under the scheduled law with the
-config's payload table: line-of-sight rms and detrended rms (µrad) per input as a Markdown table, the 5 s run's
-beside it, and the gimbal's rms on a still mount over the same window (its sensor-noise floor). The cases
-of the study are 5 s long and cannot be run longer here.
+The gimbal on the six-axis isolator under each study case (rebuilt over `--duration` s from the helicopter runs in
+DIR, default reports/helicopter/runs of a run of `all`, as the excitation stage builds it) and each of
+``payload.sources``, for `--duration` s scored from `--settle` s (the stage: 5 s from 1 s), at the constant damping
+candidates, under skyhook and under the scheduled law with the config's payload table: line-of-sight rms and
+detrended rms (µrad) per input as a Markdown table, the 5 s run's beside it, and the gimbal's rms on a still mount
+over the same window (its sensor-noise floor). A case rebuilt over the longer record is scaled on it (its dominant
+line read over the whole record): its scale per axis is printed beside the stage's 5 s case's (`--cases`).
 """
 
 from __future__ import annotations
@@ -17,19 +19,31 @@ import dataclasses
 
 from payload_sweep import merged
 
+from uavdamp import io
 from uavdamp.camera.optics import CameraModel
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse, view
+from uavdamp.sources import excitation
+from uavdamp.sources.excitation import case_motion
 from uavdamp.sources.stated import StatedSource, motion
 from uavdamp.study import payload, payload_table
 
 URAD = 1e6
 
 
-def row(section, platform, camera, table, name, source) -> list[str]:
+def cases(config: dict, duration: float, runs_dir: str):
+    """The study's helicopter cases over `duration` s, as the excitation stage builds them (no log or source case)."""
+    study = config["study"]
+    keys = ("cases", "duration_s", "highpass_hz", "tracking")
+    options = parse(excitation.ExcitationOptions, {k: study[k] for k in keys} | {"duration_s": duration}, "study")
+    names = {c.run for c in options.cases.values() if c.run}
+    runs = {name: io.open_dataset(f"{runs_dir}/{name}.nc") for name in names}
+    return excitation.cases_dataset(runs, options, {}, {})
+
+
+def row(section, platform, camera, table, t, moved) -> list[str]:
     """The cells of one input, rms / detrended (µrad): each constant C, the best skyhook (by rms), the scheduled
     law (its mean C)."""
-    t, moved, _ = motion(source, section.duration_s)
     ds = payload.compare_payloads(t, moved, section, platform, camera, table)
     own = ds.sel(payload="gimbal", mount="six_axis")
     cells = [
@@ -52,6 +66,8 @@ def main() -> None:
     parser.add_argument("configs", nargs="*", default=["config/config.yaml"])
     parser.add_argument("--duration", type=float, default=20.0, help="s, of each run")
     parser.add_argument("--settle", type=float, default=10.0, help="s, the metrics from here")
+    parser.add_argument("--runs", default="reports/helicopter/runs", help="the helicopter runs of a run of all")
+    parser.add_argument("--cases", default="reports/excitation/cases.nc", help="the stage's own 5 s cases")
     args = parser.parse_args()
     config = merged(args.configs)
     platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
@@ -63,11 +79,22 @@ def main() -> None:
     head = ["input", "run", *[f"C {c:g}" for c in base.damping], "best skyhook (c_on)", "scheduled (mean C)"]
     head += ["still mount (rms)"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
-    for name in base.sources:
-        source = parse(StatedSource, config["sources"][name], f"sources.{name}")
-        for label, section in ((f"{base.duration_s:g} s from {base.settle_s:g} s", base),
-                               (f"{args.duration:g} s from {args.settle:g} s", long)):  # fmt: skip
-            cells = row(section, platform, camera, table, name, source)
+    runs = [
+        (f"{base.duration_s:g} s from {base.settle_s:g} s", base),
+        (f"{args.duration:g} s from {args.settle:g} s", long),
+    ]
+    found, short = cases(config, args.duration, args.runs), io.open_dataset(args.cases)
+    for name in [str(c) for c in found.case.values] + list(base.sources):
+        for label, section in runs:
+            if name in found.case.values:  # the stage's case for its own window, the rebuilt one for the long
+                own = short if section is base else found
+                t, moved = own.time.values, case_motion(own, name)
+                scale = ", ".join(f"{v:.3g}" for v in own.scale.sel(case=name).values)
+                label = f"{label} (scale y, z: {scale})"
+            else:
+                source = parse(StatedSource, config["sources"][name], f"sources.{name}")
+                t, moved, _ = motion(source, section.duration_s)
+            cells = row(section, platform, camera, table, t, moved)
             print(f"| {name} | {label} | " + " | ".join(cells) + " |", flush=True)
 
 
