@@ -18,6 +18,7 @@ from uavdamp.settings import ConfigError
 from uavdamp.study import payload_runs as runs
 from uavdamp.study import payload_table as pt
 
+ANY_C = {"max_decay_time_s": 100.0}  # the scheduled law may take any C of a small table (none settles in 0.5 s)
 SMALL = {
     "freq_hz": {"values": [7.0]},
     "stiffness_n_m": {"values": [500.0, 1000.0]},
@@ -32,7 +33,7 @@ def test_the_criterion_is_the_simulated_gimbal_on_a_stiffer_isolator(dof, amplit
     and y likewise; C = 3 N s/m) against the time-domain gimbal on an isolator built here from the same numbers:
     sqrt(a_pitch^2 + a_yaw^2) / sqrt 2 of the fitted amplitudes, at the table's amplitude (the loop is linear),
     within 1 % (the transmissibility's own agreement, tests/test_transmissibility.py)."""
-    section = _section(gimbal={"sensor_errors": False}, table={**SMALL, "rotation_amplitude_rad": 2e-3})
+    section = _section(gimbal={"sensor_errors": False}, table={**SMALL, "rotation_amplitude_rad": 2e-3}, schedule=ANY_C)
     isolator = square_layout(
         runs.gimbal_payload(section),
         section.six_axis.half_spacing,
@@ -116,8 +117,15 @@ def test_a_table_key_that_cannot_work_is_refused_by_name(table, key):
         _section(table=table)
 
 
+def test_a_settling_limit_that_leaves_the_law_no_damping_is_refused_before_any_job():
+    """The default isolator's fastest decay on the table's grid is 0.107 s (at 20.8 N s/m): 0.05 s leaves none."""
+    with pytest.raises(ConfigError, match=r"payload\.schedule\.max_decay_time_s.*0\.107 s"):
+        _section(schedule={"max_decay_time_s": 0.05})
+    _section(schedule={"max_decay_time_s": 0.11})
+
+
 def test_the_dataset_says_its_units():
-    table = pt.table_dataset(_section(table=SMALL))
+    table = pt.table_dataset(_section(table=SMALL, schedule=ANY_C))
     for name, (_, units, _) in pt.ROWS.items():
         assert table[name].attrs["units"] == units and table[name].attrs["long_name"], name
     assert table.freq.attrs["units"] == "Hz" and table.stiffness.attrs["units"] == "N m-1"

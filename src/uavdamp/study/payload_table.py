@@ -92,7 +92,8 @@ def scaled(section, stiffness: float):
 def check(section, where: str = "payload.table") -> None:
     """ConfigError naming the key when a table stiffness cannot carry the payload (a rocking mode unstable under
     its weight), a frequency reaches the gimbal loop's Nyquist frequency, or the six-axis isolator's own z
-    stiffness is not in the table (the scheduled law reads the table there)."""
+    stiffness is not in the table (the scheduled law reads the table there), or the scheduled law's
+    ``max_decay_time_s`` leaves it no damping."""
     table = section.table
     own = float(section.six_axis.stiffness[2])
     ok = bool(np.any(np.isclose(table.stiffness.array(), own, rtol=1e-9)))
@@ -109,6 +110,11 @@ def check(section, where: str = "payload.table") -> None:
             runs.six_axis_isolator(scaled(section, float(k)), 0.0)
         except ValueError as error:
             raise ConfigError(f"{where}.stiffness_n_m: {k} N m-1 cannot carry the payload ({error})") from None
+    fastest = min(_decay_time(section, own, float(c)) for c in table.damping.array())
+    limit = section.schedule.max_decay_time
+    ok = fastest <= limit
+    rule = f"({limit} s) leaves no damping of payload.table: the isolator's shortest decay time is {fastest:.3g} s"
+    require(ok, "payload.schedule.max_decay_time_s", rule)
 
 
 def amplitudes(table: TableSection) -> np.ndarray:
@@ -181,14 +187,19 @@ def modes(section) -> np.ndarray:
     return np.stack([rigid_body_modes(runs.six_axis_isolator(scaled(section, float(k)), 0.0))[0] for k in ks])
 
 
+def _decay_time(section, stiffness: float, damping: float) -> float:
+    """The six-axis isolator's slowest 1/e decay time, s, at element z stiffness and damping: max of -1 / Re(pole)."""
+    poles = np.linalg.eigvals(state_space(runs.six_axis_isolator(scaled(section, stiffness), damping)).a)
+    return float(np.max(-1.0 / poles.real))
+
+
 def decay_times(section) -> np.ndarray:
     """(stiffness, damping) the isolator's slowest 1/e decay time, s: max over its poles of -1 / Re(pole), at
     each table stiffness and damping (how long a start-up or a change of C takes to reach the steady state)."""
     t = section.table
     out = np.empty((t.stiffness.array().size, t.damping.array().size))
     for (j, k), (i, c) in itertools.product(enumerate(t.stiffness.array()), enumerate(t.damping.array())):
-        poles = np.linalg.eigvals(state_space(runs.six_axis_isolator(scaled(section, float(k)), float(c))).a)
-        out[j, i] = float(np.max(-1.0 / poles.real))
+        out[j, i] = _decay_time(section, float(k), float(c))
     return out
 
 
