@@ -13,9 +13,8 @@ different frequencies do). Before the first estimate (a whole ``window_s`` of re
 the held C: `uavdamp.platform.six_axis_run.run`). The law chooses among the table's dampings at which the isolator
 settles (its slowest 1/e decay time, the table's ``decay_time``) within ``max_decay_time_s``: the steady state the
 table assumes is reached within an update period at them, and a lightly damped rocking mode is not left ringing
-(at 0.1 N s/m the default isolator's decays in 22 s: a 7 Hz line on x and pitch then gave 630 µrad over 1-5 s and
-324 µrad over 16-20 s, where the table's steady state is 75 µrad; at 1 N s/m, 93 µrad over 16-20 s against the
-table's 93).
+(a 7 Hz line on the mount's x and pitch: at 1 N s/m, decay time 2.1 s, the line of sight over 16-20 s is the table's
+steady state within 3 %; at 0.1 N s/m, 22 s, more than twice it: tests/test_payload_schedule.py).
 
 What it leaves out, as the paper's does: the lines besides each DOF's dominant one, the cross terms of lines that
 share a frequency across DOFs, and the isolator's start-up transient (the table is steady state).
