@@ -1,5 +1,6 @@
 """What the six-axis isolator's best damping depends on, for the gimbal the config names: the reference table's
-construct (`uavdamp.reference_table.criteria.optimum`) on the payload, in closed form.
+construct (`uavdamp.reference_table.criteria`: the best C per point, its grid-edge flags, the best constant C and the
+scheduling gain) on the payload, in closed form.
 
 For a sine of the mount along one DOF (x, y, z at ``translation_amplitude_m``; roll, pitch, yaw at
 ``rotation_amplitude_rad``) at frequency f, with every element's stiffness scaled so that its z stiffness is K
@@ -9,7 +10,9 @@ gimbal's steady-state line of sight is the closed form of `uavdamp.study.transmi
 ``los_std``: sqrt(var pitch + var yaw), the rms of a sine being its amplitude / sqrt 2; the roll is kept beside it
 (``los_roll``). Per (DOF, f, K): the C that minimises the criterion; per (DOF, K): the one C that minimises its mean
 over the frequencies, and the scheduling gain, the mean over the frequencies of the criterion at that C over the
-criterion at the best C (1: scheduling C by frequency buys nothing on a mono-frequency input).
+criterion at the best C (1: scheduling C by frequency buys nothing on a mono-frequency input), per band of
+``bands_hz``; per (K, C): the isolator's slowest 1/e decay time (how long the steady state takes to be reached:
+`uavdamp.study.payload_schedule` chooses among the C that settle).
 
 Choices and assumptions: steady state only (the transient from rest of a sampled loop has no closed form here;
 the paper's table scored the start-up); the loop linear (below the torque limit, without the IMU's noise,
@@ -37,7 +40,6 @@ from uavdamp.settings import ConfigError, require, setting
 from uavdamp.study import payload_runs as runs
 from uavdamp.study.transmissibility import gimbal_line_of_sight
 
-TRANSLATIONS = ("x", "y", "z")
 BANDS_HZ = (("helicopter", (3.0, 12.0)), ("multirotor", (80.0, 120.0)))  # Hz, the default bands as pairs
 NO_LINE_OF_SIGHT = 1e-9  # 1, a DOF whose largest criterion is below this x the table's largest has none
 
