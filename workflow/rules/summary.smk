@@ -43,7 +43,10 @@ rule summary:
         cases=f"{OUT}/excitation/cases.nc",
         comparison=f"{OUT}/study/comparison.nc",
         payload=f"{OUT}/payload/comparison.nc",
-        landing=os.path.join(workflow.current_basedir, "..", "report", "workflow.rst"),
+        # relative to the working directory: a run folder moved elsewhere plans nothing new
+        landing=os.path.relpath(
+            os.path.join(workflow.current_basedir, "..", "report", "workflow.rst")
+        ),
     output:
         markdown=f"{OUT}/summary.md",
         # the report's first page: workflow/report/workflow.rst with the findings (the Snakefile's report:)
