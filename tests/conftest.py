@@ -221,20 +221,71 @@ def with_plugin(workdir: Path) -> Path:
 PIPELINE_FIXTURES = {"quick_run", "multirotor_run"}
 
 
+# the longest runs first, so that pytest-xdist's workers (`--dist loadfile --no-loadscope-reorder`: whole files in
+# this order) start them side by side: the quick run with the profile run that follows it, a second quick run (its
+# own, killed and resumed), the SLURM cluster and the log case; then every other file in its usual order
+LONGEST_FIRST = (
+    "tests/workflow/test_multirotor.py",
+    "tests/workflow/test_reruns_and_determinism.py::test_a_killed_and_resumed_run",
+    "tests/workflow/test_reruns_and_determinism.py",
+    "tests/workflow/test_slurm.py",
+    "tests/workflow/test_log_case.py",
+)
+
+
+def _rank(item) -> int:
+    nodeid = item.nodeid.replace(os.sep, "/")
+    return next((k for k, prefix in enumerate(LONGEST_FIRST) if nodeid.startswith(prefix)), len(LONGEST_FIRST))
+
+
 def pytest_collection_modifyitems(config, items):
     for item in items:
         if PIPELINE_FIXTURES & set(getattr(item, "fixturenames", ())):
             item.add_marker(pytest.mark.slow)
+    items.sort(key=_rank)  # stable: the usual order within a rank
+
+
+def shared_once(tmp_path_factory, name: str, make) -> Path:
+    """`make(folder)` run once per test command, whether pytest runs alone or as pytest-xdist workers: the first
+    worker to ask makes `name` under the command's shared temporary folder while holding its file lock, the others
+    wait for it and reuse the folder (or fail with the first worker's message). Returns the folder."""
+    from filelock import FileLock
+
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):  # each worker's basetemp sits in the command's own folder
+        root = root.parent
+    folder, failed = root / name, root / f"{name}.failed"
+    with FileLock(root / f"{name}.lock"):
+        if failed.exists():
+            pytest.fail(f"{name} failed in another worker: {failed.read_text()}")
+        if not (folder / ".done").exists():
+            try:
+                make(folder)
+            except BaseException as error:
+                failed.write_text(str(error)[-9000:])
+                raise
+            (folder / ".done").touch()
+    return folder
+
+
+def _quick_run(workdir: Path) -> None:
+    with_plugin(copy_workflow(workdir))
+    result = snakemake(workdir, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
 
 
 @pytest.fixture(scope="session")
 def quick_run(tmp_path_factory) -> Path:
-    """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per session,
-    with the plug-in law of `plugin_override`."""
-    workdir = with_plugin(copy_workflow(tmp_path_factory.mktemp("quick")))
-    result = snakemake(workdir, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
-    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-6000:]
-    return workdir
+    """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per test command
+    (shared by the pytest-xdist workers), with the plug-in law of `plugin_override`. Tests read it; a test that
+    edits a file of it works on a copy (`copy_run`)."""
+    return shared_once(tmp_path_factory, "quick", _quick_run)
+
+
+def copy_run(run: Path, dest: Path) -> Path:
+    """A copy of a run folder with its files' times kept (Snakemake plans by them); `dest`."""
+    shutil.copytree(run, dest, symlinks=True)
+    return dest
 
 
 def platform_from(section: dict) -> PlatformParams:

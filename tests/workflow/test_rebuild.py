@@ -1,13 +1,14 @@
 """Every output is requested by `rule all`: delete any one and the dry run plans the rule that rebuilds it.
 
-The dry runs go through Snakemake's command line inside the test process (`conftest.snakemake_dry`)."""
+The dry runs go through Snakemake's command line inside the test process (`conftest.snakemake_dry`), on a copy of
+the quick run (the tests move its files aside: other workers read the quick run meanwhile)."""
 
 from __future__ import annotations
 
 import os
 
 import pytest
-from conftest import QUICK_RUN_ARGS, planned_rules, snakemake_dry
+from conftest import QUICK_RUN_ARGS, copy_run, planned_rules, snakemake_dry
 
 pytestmark = pytest.mark.slow  # every test here starts Snakemake (in-process or as a process)
 
@@ -33,21 +34,26 @@ OUTPUTS = [
 ]
 
 
+@pytest.fixture(scope="module")
+def run_copy(quick_run, tmp_path_factory):
+    return copy_run(quick_run, tmp_path_factory.mktemp("rebuild") / "run")
+
+
 @pytest.mark.parametrize(("rule", "path"), OUTPUTS, ids=[p.rsplit("/", 1)[-1] for _, p in OUTPUTS])
-def test_deleted_output_is_planned_for_rebuild(quick_run, rule, path):
-    target = quick_run / path
+def test_deleted_output_is_planned_for_rebuild(run_copy, rule, path):
+    target = run_copy / path
     assert target.is_file(), path
     aside = target.with_name(target.name + ".aside")
     os.replace(target, aside)  # keeps the mtime, so putting it back restores the finished run
     try:
-        result = snakemake_dry(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS)
+        result = snakemake_dry(run_copy, "-n", "-j1", "all", *QUICK_RUN_ARGS)
     finally:
         os.replace(aside, target)
     assert result.returncode == 0, result.stderr[-3000:]
     assert rule in planned_rules(result), (rule, result.stdout[-3000:])
 
 
-def test_nothing_planned_after_a_complete_run(quick_run):
-    result = snakemake_dry(quick_run, "-n", "-j1", "all", *QUICK_RUN_ARGS)
+def test_nothing_planned_after_a_complete_run(run_copy):
+    result = snakemake_dry(run_copy, "-n", "-j1", "all", *QUICK_RUN_ARGS)
     assert result.returncode == 0, result.stderr[-3000:]
     assert "Nothing to be done" in result.stdout + result.stderr, result.stdout[-3000:]

@@ -74,13 +74,12 @@ def n_chunks() -> int:
     return load_config("quick.yaml")["reference_table"]["n_chunks"]
 
 
-@pytest.fixture(scope="module")
-def local_run(quick_run) -> Path:
+def local_run(request) -> Path:
     """The same target run locally with default threads (2 workers per chunk, 1 on the cluster): the session's
     quick run, whose plug-in override sets no reference_table key. The numbers the cluster must reproduce bit for
-    bit."""
+    bit. Asked for only when the cluster's table is there, so that under pytest-xdist the two run side by side."""
     assert "reference_table" not in plugin_override()
-    return quick_run
+    return request.getfixturevalue("quick_run")
 
 
 def run_on_slurm(workdir: Path, cluster, *extra: str) -> tuple[object, dict[str, tuple[str, str]], float]:
@@ -158,7 +157,7 @@ def _assert_ran_as_slurm_job(cluster, workdir: Path, item: str, slurm_id: str, s
     assert completion["JobState"] == state and completion["NodeList"] == "localhost", completion
 
 
-def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_chunks, tmp_path, monkeypatch):
+def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, n_chunks, tmp_path, monkeypatch, request):
     """The reference table through the SLURM profile, one chunk failing on purpose: the failure is reported and the
     other chunks finish as SLURM jobs; the rerun submits only the failed chunk and the gather, keeps the finished
     chunks, and the table equals the local run's bit for bit. Every chunk and the gather ran as a SLURM job (the
@@ -200,4 +199,4 @@ def test_failed_chunk_is_reported_and_rerun_resumes(slurm_cluster, local_run, n_
     _assert_ran_as_slurm_job(slurm_cluster, workdir, bad, submitted[bad][1], "COMPLETED")
     for item, mtime in kept.items():
         assert (chunks / f"{item}.nc").stat().st_mtime_ns == mtime, f"finished chunk {item} was recomputed"
-    _assert_same_numbers(workdir, local_run)
+    _assert_same_numbers(workdir, local_run(request))
