@@ -4,17 +4,12 @@ workers, resume."""
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
-import sys
-import time
 from dataclasses import replace
 
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import camera_of, copy_workflow, platform_from, snakemake, synthetic_grid
+from conftest import camera_of, platform_from, synthetic_grid
 
 from uavdamp import io
 from uavdamp.contract import SolverFailed
@@ -320,42 +315,6 @@ def test_quick_table_in_pipeline(quick_run):
     assert full.attrs["n_failed"] == 0 and int(full.failed.sum()) == 0
     for figure in ("reference_table.png", "reference_table_criteria.png"):
         assert (quick_run / "reports-quick/figures" / figure).stat().st_size > 10_000
-
-
-def test_resume_after_kill_gives_identical_table(quick_run, tmp_path):
-    """Kill Snakemake after the first chunk, rerun: finished chunks kept, table identical."""
-    workdir = copy_workflow(tmp_path)
-    target = "reports-quick/reference_table/table.nc"
-    cmd = [sys.executable, "-m", "snakemake", "-j1", target, "--configfile", "config/quick.yaml"]
-    proc = subprocess.Popen(
-        cmd, cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
-    )
-    chunks = workdir / "reports-quick/reference_table/chunks"
-    logs = workdir / "reports-quick/logs/reference_table"
-    started: list[str] = []  # chunk jobs in the order their logs appeared (-j1: one at a time)
-    deadline = time.monotonic() + 600
-    try:
-        while time.monotonic() < deadline and proc.poll() is None and len(started) < 2:
-            for log in sorted(logs.glob("*-of-*.log")) if logs.exists() else []:
-                if log.stem not in started:
-                    started.append(log.stem)
-            time.sleep(0.05)
-    finally:
-        os.killpg(proc.pid, signal.SIGKILL)
-        proc.wait(timeout=60)
-    assert len(started) >= 2, "the run ended or timed out before a second chunk started"
-    # every chunk started before the last one had finished and been recorded by Snakemake
-    kept = {name: (chunks / f"{name}.nc").stat().st_mtime_ns for name in started[:-1]}
-    assert not (workdir / target).exists()
-    assert snakemake(workdir, "--unlock", "--configfile", "config/quick.yaml").returncode == 0  # the kill left a lock
-    result = snakemake(workdir, "-j2", target, "--configfile", "config/quick.yaml", "--rerun-incomplete")
-    assert result.returncode == 0, result.stderr[-3000:]
-    for name, mtime in kept.items():
-        assert (chunks / f"{name}.nc").stat().st_mtime_ns == mtime, f"{name} was recomputed"
-    resumed = io.open_dataset(workdir / target)
-    reference = io.open_dataset(quick_run / target)
-    for name in reference.data_vars:
-        np.testing.assert_array_equal(resumed[name].values, reference[name].values, err_msg=name)
 
 
 def test_an_optimum_on_an_edge_of_the_c_grid_is_flagged_with_its_share():

@@ -1,4 +1,5 @@
-"""Rerun promises for an edit of every config section, and two full quick runs compared file by file.
+"""Rerun promises for an edit of every config section, and two full quick runs compared file by file (the second
+killed in the reference table and resumed).
 
 workflow/rules/common.smk promises that a rule's params hold only what the rule uses, with sorted keys, so an
 edit reruns exactly the stages it affects (and those downstream of them) and reordering keys reruns nothing.
@@ -10,6 +11,12 @@ dry run on the finished quick run, through Snakemake's command line inside the t
 from __future__ import annotations
 
 import copy
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
 
 import numpy as np
 import pytest
@@ -181,12 +188,13 @@ PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall
 
 
 def _attrs(attrs: dict, workdir) -> dict:
-    """Attributes less PROVENANCE, with the run's folder (in config_files) written as <workdir>."""
-    return {
-        k: v.replace(str(workdir), "<workdir>") if isinstance(v, str) else v
-        for k, v in attrs.items()
-        if k not in PROVENANCE
-    }
+    """Attributes less PROVENANCE, with the run's folder (in config_files) written as <workdir>, and the resume's
+    flag and the core count left out of the command line (files written before the kill carry -j1, after it -j2
+    and --rerun-incomplete)."""
+    out = {k: v.replace(str(workdir), "<workdir>") if isinstance(v, str) else v for k, v in attrs.items()}
+    if "command_line" in out:
+        out["command_line"] = re.sub(r" -j\d+| --rerun-incomplete", "", out["command_line"])
+    return {k: v for k, v in out.items() if k not in PROVENANCE}
 
 
 def assert_same_netcdf_files(first, second) -> int:
@@ -209,9 +217,46 @@ def assert_same_netcdf_files(first, second) -> int:
     return len(first_files)
 
 
-def test_two_quick_runs_give_identical_netcdf_files(quick_run, tmp_path):
-    """A second full quick run in another folder: every NetCDF holds the same names, values and attributes."""
+def _kill_after_two_chunks_started(workdir) -> list[str]:
+    """`snakemake -j1 all benchmark` on the quick run's config in `workdir`, killed (SIGKILL, the whole process
+    group) once a second reference-table chunk has started; the chunks in the order they started."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "snakemake", "-j1", "all", "benchmark", *QUICK_RUN_ARGS],
+        cwd=workdir,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    logs = workdir / "reports-quick/logs/reference_table"
+    started: list[str] = []  # -j1: one chunk job at a time, each writes its log first
+    deadline = time.monotonic() + 600
+    try:
+        while time.monotonic() < deadline and proc.poll() is None and len(started) < 2:
+            for log in sorted(logs.glob("*-of-*.log")) if logs.exists() else []:
+                if log.stem not in started:
+                    started.append(log.stem)
+            time.sleep(0.05)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=60)
+    return started
+
+
+@pytest.mark.slow
+def test_a_killed_and_resumed_run_gives_the_quick_runs_netcdf_files(request, tmp_path):
+    """A second quick run in another folder, killed in the reference table and resumed: the finished chunks are
+    kept, and every NetCDF of the two runs holds the same names, values and attributes (the run is reproducible,
+    and a resume changes nothing). The first run is asked for only at the end, so the two can run side by side
+    under pytest-xdist."""
     second = with_plugin(copy_workflow(tmp_path / "second"))
-    result = snakemake(second, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
+    started = _kill_after_two_chunks_started(second)
+    assert len(started) >= 2, "the run ended or timed out before a second chunk started"
+    chunks = second / "reports-quick/reference_table/chunks"
+    kept = {name: (chunks / f"{name}.nc").stat().st_mtime_ns for name in started[:-1]}  # finished and recorded
+    assert not (second / "reports-quick/reference_table/table.nc").exists()
+    assert snakemake(second, "--unlock", *QUICK_RUN_ARGS).returncode == 0  # the kill left a lock
+    result = snakemake(second, "-j2", "all", "benchmark", *QUICK_RUN_ARGS, "--rerun-incomplete")
     assert result.returncode == 0, result.stderr[-3000:]
-    assert assert_same_netcdf_files(quick_run, second) > 10
+    for name, mtime in kept.items():
+        assert (chunks / f"{name}.nc").stat().st_mtime_ns == mtime, f"{name} was recomputed"
+    assert assert_same_netcdf_files(request.getfixturevalue("quick_run"), second) > 10
