@@ -13,9 +13,17 @@ baselines        the regressors the ANFIS is judged against
 training         the training stage: samples of the reference table, the split, selection, baselines, the record
 """
 
-from uavdamp.anfis.damping import DampingModel
-from uavdamp.anfis.estimator import ANFIS
+from importlib import import_module
+
 from uavdamp.anfis.params import AnfisOptions, AnfisSection, Candidate, Selection
-from uavdamp.anfis.training import train
 
 __all__ = ["ANFIS", "AnfisOptions", "AnfisSection", "Candidate", "DampingModel", "Selection", "train"]
+# imported when first asked for (PEP 562): the config layer and the Snakefile read the typed sections above without
+# importing scikit-learn (1.3 s of every Snakemake start, measured)
+_LAZY = {"ANFIS": "uavdamp.anfis.estimator", "DampingModel": "uavdamp.anfis.damping", "train": "uavdamp.anfis.training"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        return getattr(import_module(_LAZY[name]), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -26,7 +26,8 @@ from sklearn.pipeline import make_pipeline
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-BASELINES = ("linear", "gp", "knn", "hgb")
+from uavdamp.anfis.params import BASELINES
+
 # rough fit cost on the default table in the units of model_selection.cost (rules of an ANFIS, ~0.015 s each),
 # to start the costliest fits first: the exact GP takes a minute
 COSTS = {"linear": 12.0, "gp": 4000.0, "knn": 1.0, "hgb": 10.0}

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from uavdamp.anfis.baselines import BASELINES
 from uavdamp.settings import require, setting
+
+BASELINES = ("linear", "gp", "knn", "hgb")  # the baseline regressors by name (`uavdamp.anfis.baselines.make`)
 
 CANDIDATE_KEYS = {"grid": "n_mfs", "fcm": "n_rules", "subtractive": "radius"}  # each init's one size parameter
 EPOCH_SELECTION = ("validation", "checking")
