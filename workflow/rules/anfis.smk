@@ -46,6 +46,7 @@ rule anfis:
         f"{OUT}/logs/anfis.log",
     benchmark:
         f"{OUT}/benchmarks/anfis.tsv"
+    priority: 2  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     threads: config["anfis"]["threads"]

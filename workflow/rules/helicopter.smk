@@ -19,6 +19,7 @@ rule helicopter_run:
         f"{OUT}/benchmarks/helicopter_run_{{rotor}}.tsv"
     wildcard_constraints:
         rotor="|".join(VACUUM_RUNS),
+    priority: 3  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     params:
@@ -41,6 +42,7 @@ rule helicopter_flight:
         f"{OUT}/benchmarks/helicopter_flight_{{flight}}.tsv"
     wildcard_constraints:
         flight="hover|forward",
+    priority: 3  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     params:

@@ -79,6 +79,7 @@ rule payload:
         f"{OUT}/logs/payload.log",
     benchmark:
         f"{OUT}/benchmarks/payload.tsv"
+    priority: 1  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     threads: config["payload"]["threads"]

@@ -11,6 +11,7 @@ rule reference_table_chunk:
         f"{OUT}/logs/reference_table/{{scatteritem}}.log",
     benchmark:
         f"{OUT}/benchmarks/reference_table/{{scatteritem}}.tsv"
+    priority: 2  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     threads: config["reference_table"]["threads"]
@@ -65,6 +66,7 @@ rule reference_table:
         f"{OUT}/logs/reference_table/gather.log",
     benchmark:
         f"{OUT}/benchmarks/reference_table/gather.tsv"
+    priority: 2  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     threads: config["reference_table"]["threads"]

@@ -19,6 +19,7 @@ rule excitation:
         f"{OUT}/excitation/cases.nc",
     log:
         f"{OUT}/logs/excitation.log",
+    priority: 1  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     params:
@@ -118,6 +119,7 @@ rule study:
         f"{OUT}/logs/study.log",
     benchmark:
         f"{OUT}/benchmarks/study.tsv"
+    priority: 1  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     params:
