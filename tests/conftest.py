@@ -1,4 +1,5 @@
-"""Shared fixtures: configs, and a scratch copy of the workflow for Snakemake runs."""
+"""Shared fixtures: configs, the session's quick run (built once for all pytest-xdist workers, `shared_once`) and
+scratch copies of the workflow for Snakemake runs; the pipeline-heavy files are scheduled first (`LONGEST_FIRST`)."""
 
 from __future__ import annotations
 
