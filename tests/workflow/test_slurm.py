@@ -75,9 +75,10 @@ def n_chunks() -> int:
 
 
 def local_run(request) -> Path:
-    """The same target run locally with default threads (2 workers per chunk, 1 on the cluster): the session's
-    quick run, whose plug-in override sets no reference_table key. The numbers the cluster must reproduce bit for
-    bit. Asked for only when the cluster's table is there, so that under pytest-xdist the two run side by side."""
+    """The same target run locally: the session's quick run (one worker per chunk, as on the cluster; that two
+    workers give the same numbers is tests/test_reference_table.py's), whose plug-in override sets no
+    reference_table key. The numbers the cluster must reproduce bit for bit. Asked for only when the cluster's
+    table is there, so that under pytest-xdist the two run side by side."""
     assert "reference_table" not in plugin_override()
     return request.getfixturevalue("quick_run")
 
