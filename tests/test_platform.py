@@ -478,3 +478,103 @@ def test_exudyn_eigen_analysis_meets_the_targets_to_round_off():
     freq_hz, _ = natural_frequencies(params())
     np.testing.assert_allclose(freq_hz, sorted(TARGETS_HZ), rtol=1e-9)
     assert math.isclose(freq_hz[0], 4.5, rel_tol=1e-9)
+
+
+def _motion(n: int, value: float = 0.0) -> MountMotion:
+    return MountMotion(np.full((3, n), value), np.full((3, n), value))
+
+
+@pytest.mark.parametrize(
+    ("time", "mount", "message"),
+    [
+        (np.array([[0.0, 0.1]]), _motion(2), "time must be 1-D, increasing, with at least 2 samples"),
+        (np.array([0.0]), _motion(1), "time must be 1-D, increasing, with at least 2 samples"),
+        (np.array([0.0, 0.1, 0.1]), _motion(3), "time must be 1-D, increasing, with at least 2 samples"),
+        (np.array([0.01, 0.1]), _motion(2), r"time must start at 0 s, got 0\.01"),
+        (np.linspace(0, 1, 5), MountMotion(np.zeros((3, 4)), np.zeros((3, 5))), r"mount translation must have "
+         r"the shape \(3, 5\) of \(axis, time\), got \(3, 4\)"),
+        (np.linspace(0, 1, 5), MountMotion(np.zeros((3, 5)), np.zeros((2, 5))), r"mount rotation must have "
+         r"the shape \(3, 5\) of \(axis, time\), got \(2, 5\)"),
+        (np.linspace(0, 1, 5), _motion(5, math.nan), "mount translation must be finite"),
+        (np.linspace(0, 1, 5), MountMotion(np.zeros((3, 5)), np.full((3, 5), math.inf)), "mount rotation must be "
+         "finite"),
+        (np.array([0.0, 0.05]), _motion(2), r"time must reach at least one time_step \(0\.1 s\)"),
+    ],
+    ids=["2-d", "one-sample", "not-increasing", "late-start", "translation-shape", "rotation-shape",
+         "translation-nan", "rotation-inf", "shorter-than-a-step"],
+)  # fmt: skip
+def test_on_grid_refuses_a_bad_input_naming_the_rule(time, mount, message):
+    from uavdamp.contract import on_grid
+
+    with pytest.raises(ValueError, match=f"^{message}$"):
+        on_grid(time, mount, 0.1)
+
+
+def test_on_grid_resamples_every_component_linearly_onto_whole_steps():
+    """A piecewise-linear input on an uneven grid: on the solver grid 0, h, ... <= t_end every component is the
+    straight line between its two neighbouring samples (by hand); a time that is a whole number of steps in
+    round-off (0.3 / 0.1 = 2.9999999999999996) still ends the grid on it, a start within 1e-12 s of 0 is accepted
+    (the grid's 0 before it takes the first sample's value), and so is a time of exactly one step."""
+    from uavdamp.contract import on_grid
+
+    time = np.array([1e-12, 0.07, 0.3])
+    rows = np.array([[0.0, 0.7, 3.0], [1.0, 1.0, 1.0], [2.0, 0.6, -4.0]])  # 10 t, 1, a kink at 0.07 s
+    grid, moved = on_grid(time, MountMotion(rows, -rows), 0.1)
+    np.testing.assert_allclose(grid, [0.0, 0.1, 0.2, 0.3], rtol=0, atol=1e-15)
+    slope = (-4.0 - 0.6) / (0.3 - 0.07)  # m s-1 of the third row after the kink
+    expected = np.array(
+        [[0.0, 1.0, 2.0, 3.0], [1.0, 1.0, 1.0, 1.0], [2.0, 0.6 + slope * 0.03, 0.6 + slope * 0.13, -4.0]]
+    )
+    np.testing.assert_allclose(moved.translation, expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(moved.rotation, -expected, rtol=0, atol=1e-12)
+    assert moved.translation.shape == moved.rotation.shape == (3, 4)
+    grid, moved = on_grid(np.array([0.0, 0.1]), MountMotion(rows[:, :2], rows[:, :2]), 0.1)
+    np.testing.assert_array_equal(grid, [0.0, 0.1])
+    np.testing.assert_array_equal(moved.translation, rows[:, :2])
+
+
+def test_line_of_sight_inverts_the_cameras_axis_convention():
+    """axis = (cos psi cos theta, sin psi cos theta, -sin theta) (`uavdamp.camera.optics`) gives back psi and theta
+    over the whole sphere but the poles; an axis a round-off beyond a pole reads +-pi/2, not NaN; a list is taken."""
+    from uavdamp.contract import line_of_sight
+
+    rng = np.random.default_rng(7)
+    psi, theta = rng.uniform(-3.1, 3.1, 50), rng.uniform(-1.5, 1.5, 50)
+    axis = np.stack([np.cos(psi) * np.cos(theta), np.sin(psi) * np.cos(theta), -np.sin(theta)], axis=-1)
+    got_psi, got_theta = line_of_sight(axis)
+    np.testing.assert_allclose(got_psi, psi, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(got_theta, theta, rtol=0, atol=1e-12)
+    down, up = line_of_sight([[0.0, 0.0, -(1 + 1e-12)], [0.0, 0.0, 1 + 1e-12]])[1]
+    assert (down, up) == (math.pi / 2, -math.pi / 2)
+
+
+def test_a_response_dataset_carries_its_units_frames_and_demand_counts():
+    """The response's CF metadata by hand (units, frames, axes), its demand counts (zeros without a law), and a
+    missing variable refused by name."""
+    from uavdamp.contract import RESPONSE_VARIABLES, response_dataset
+
+    time = np.linspace(0.0, 0.2, 3)
+    shapes = {"axis": 2, "mount_axis": 3, "time": 3}
+    values = {name: np.zeros([shapes[d] for d in dims]) for name, (dims, _, _) in RESPONSE_VARIABLES.items()}
+    ds = response_dataset(time, values, {"plant": "test"})
+    units = {name: ds[name].attrs["units"] for name in ds.data_vars}
+    assert units == {
+        "camera_displacement": "m", "camera_yaw": "rad", "camera_pitch": "rad", "damping": "N s m-1",
+        "mount_displacement": "m", "mount_rotation": "rad", "base_displacement": "m", "isolator_stroke": "m",
+        "isolator_velocity": "m s-1", "demand_updates": "1", "demands_clipped": "1",
+    }  # fmt: skip
+    assert all(ds[name].attrs["long_name"] for name in ds.data_vars)
+    assert {n: ds[n].attrs.get("frame") for n in ds.data_vars if "frame" in ds[n].attrs} == {
+        "isolator_stroke": "isolator", "isolator_velocity": "isolator", "camera_displacement": "inertial",
+        "camera_yaw": "inertial", "camera_pitch": "inertial", "mount_displacement": "inertial",
+        "mount_rotation": "inertial",
+    }  # fmt: skip
+    assert list(ds.axis.values) == ["y", "z"] and list(ds.mount_axis.values) == ["x", "y", "z"]
+    assert ds.time.attrs["units"] == "s" and ds.axis.attrs["units"] == ds.mount_axis.attrs["units"] == "1"
+    assert ds.attrs["plant"] == "test" and ds.attrs["frame_isolator"].startswith("isolator frame")
+    assert ds.attrs["frame_inertial"].startswith("inertial frame: x forward, y left, z up")
+    assert int(ds.demand_updates) == 0 and int(ds.demands_clipped) == 0
+    counted = response_dataset(time, values, {}, clips={"updates": 5, "clipped": 2})
+    assert (int(counted.demand_updates), int(counted.demands_clipped)) == (5, 2)
+    with pytest.raises(ValueError, match=r"response: missing variable\(s\) \['camera_yaw', 'damping'\]"):
+        response_dataset(time, {k: v for k, v in values.items() if k not in ("damping", "camera_yaw")}, {})
