@@ -12,7 +12,15 @@ import scipy.linalg
 import yaml
 from conftest import FunctionLaw, load_config, mount_yz, platform_config, platform_from, platform_params, sine_yz
 
-from uavdamp.contract import MountMotion, Observation, SolverFailed
+from uavdamp.contract import (
+    RESPONSE_VARIABLES,
+    MountMotion,
+    Observation,
+    SolverFailed,
+    line_of_sight,
+    on_grid,
+    response_dataset,
+)
 from uavdamp.damping.laws import Constant, Schedule
 from uavdamp.platform import ExudynPlant, PlatformParams, PlatformSection, modes_dataset, natural_frequencies
 from uavdamp.platform.design import design_stiffness, mass_matrix, pitch_link
@@ -504,8 +512,6 @@ def _motion(n: int, value: float = 0.0) -> MountMotion:
          "translation-nan", "rotation-inf", "shorter-than-a-step"],
 )  # fmt: skip
 def test_on_grid_refuses_a_bad_input_naming_the_rule(time, mount, message):
-    from uavdamp.contract import on_grid
-
     with pytest.raises(ValueError, match=f"^{message}$"):
         on_grid(time, mount, 0.1)
 
@@ -515,8 +521,6 @@ def test_on_grid_resamples_every_component_linearly_onto_whole_steps():
     straight line between its two neighbouring samples (by hand); a time that is a whole number of steps in
     round-off (0.3 / 0.1 = 2.9999999999999996) still ends the grid on it, a start within 1e-12 s of 0 is accepted
     (the grid's 0 before it takes the first sample's value), and so is a time of exactly one step."""
-    from uavdamp.contract import on_grid
-
     time = np.array([1e-12, 0.07, 0.3])
     rows = np.array([[0.0, 0.7, 3.0], [1.0, 1.0, 1.0], [2.0, 0.6, -4.0]])  # 10 t, 1, a kink at 0.07 s
     grid, moved = on_grid(time, MountMotion(rows, -rows), 0.1)
@@ -536,8 +540,6 @@ def test_on_grid_resamples_every_component_linearly_onto_whole_steps():
 def test_line_of_sight_inverts_the_cameras_axis_convention():
     """axis = (cos psi cos theta, sin psi cos theta, -sin theta) (`uavdamp.camera.optics`) gives back psi and theta
     over the whole sphere but the poles; an axis a round-off beyond a pole reads +-pi/2, not NaN; a list is taken."""
-    from uavdamp.contract import line_of_sight
-
     rng = np.random.default_rng(7)
     psi, theta = rng.uniform(-3.1, 3.1, 50), rng.uniform(-1.5, 1.5, 50)
     axis = np.stack([np.cos(psi) * np.cos(theta), np.sin(psi) * np.cos(theta), -np.sin(theta)], axis=-1)
@@ -551,8 +553,6 @@ def test_line_of_sight_inverts_the_cameras_axis_convention():
 def test_a_response_dataset_carries_its_units_frames_and_demand_counts():
     """The response's CF metadata by hand (units, frames, axes), its demand counts (zeros without a law), and a
     missing variable refused by name."""
-    from uavdamp.contract import RESPONSE_VARIABLES, response_dataset
-
     time = np.linspace(0.0, 0.2, 3)
     shapes = {"axis": 2, "mount_axis": 3, "time": 3}
     values = {name: np.zeros([shapes[d] for d in dims]) for name, (dims, _, _) in RESPONSE_VARIABLES.items()}
