@@ -289,6 +289,17 @@ def copy_run(run: Path, dest: Path) -> Path:
     return dest
 
 
+def load_module(path: Path, name: str):
+    """A Python file that is not a package module (a benchmark script, a test helper) imported as `name`."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # a dataclass of the module looks the module up there
+    spec.loader.exec_module(module)
+    return module
+
+
 def platform_from(section: dict) -> PlatformParams:
     """A platform section (with or without `response`) as the plants take it."""
     return parse(PlatformParams, {k: v for k, v in section.items() if k not in ("response", "stroke")}, "platform")

@@ -3,23 +3,12 @@
 from __future__ import annotations
 
 import base64
-import importlib.util
 import json
-import sys
 
 import pytest
-from conftest import QUICK_RUN_ARGS, ROOT, planned_rules, snakemake_dry
+from conftest import QUICK_RUN_ARGS, ROOT, load_module, planned_rules, snakemake_dry
 
-
-def _module():
-    spec = importlib.util.spec_from_file_location("uavdamp_critical_path", ROOT / "benchmarks/critical_path.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclass looks its module up there
-    spec.loader.exec_module(module)
-    return module
-
-
-cp = _module()
+cp = load_module(ROOT / "benchmarks/critical_path.py", "uavdamp_critical_path")
 
 
 def _record(root, output, rule, inputs, start, end, job: int, split: int = 0, incomplete: bool = False):
@@ -42,7 +31,7 @@ def _record(root, output, rule, inputs, start, end, job: int, split: int = 0, in
 
 def test_the_longest_chain_of_a_hand_made_run(tmp_path):
     """A diamond a -> (b, c) -> d and a lone e: by hand, the critical path is a, b, d (2 + 5 + 1 = 8 s; a, c, d
-    is 2 + 1 + 1), the span 0-9 s, the jobs' sum 2 + 5 + 1 + 1 + 6 = 15 s; a job with two outputs counts once
+    is 2 + 1 + 1), the jobs' sum 2 + 5 + 1 + 1 + 6 = 15 s; a job with two outputs counts once
     (its records start microseconds apart), a long output name cut into folders is read back, an incomplete
     record and another output folder's are left out."""
     run = tmp_path

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT, copy_workflow, load_config, plugin_override, snakemake
+from conftest import ROOT, copy_workflow, load_config, load_module, plugin_override, snakemake
 
 from uavdamp import io
 
@@ -26,15 +26,6 @@ PROFILE = ROOT / "profiles" / "slurm"
 RUN_TIMEOUT_S = 600  # hard kill (SIGKILL) of a hung Snakemake: it has been seen to ignore SIGTERM/SIGINT
 CHUNK_THREADS = 1  # CPUs per chunk job on the 2-CPU test node: two chunks run at once
 SUBMITTED = re.compile(r"Job (\d+) has been submitted with SLURM jobid (\d+) \(log: (\S+)\)")
-
-
-def _load_cluster_module():
-    spec = importlib.util.spec_from_file_location(
-        "uavdamp_test_slurm_cluster", ROOT / "tests/workflow/slurm/cluster.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def _unavailable(reason: str):
@@ -50,7 +41,7 @@ def slurm_cluster():
         _unavailable("snakemake-executor-plugin-slurm not installed (pip install -e '.[test]')")
     if os.geteuid() != 0:
         _unavailable("not root: the throwaway SLURM cluster needs root to install and start its daemons")
-    cluster_mod = _load_cluster_module()
+    cluster_mod = load_module(ROOT / "tests/workflow/slurm/cluster.py", "uavdamp_test_slurm_cluster")
     cluster = cluster_mod.LocalCluster(log=lambda msg: print(f"[slurm cluster] {msg}"))
     t0 = time.monotonic()
     try:
