@@ -54,6 +54,14 @@ BAD = {
         {"payload": {"duration_s": 1.5}},
         "payload.duration_s: (1.5 s) must exceed 1.59 s for payload.sources[0] 'multirotor_30'",
     ),
+    "payload-wire-rope-not-dissipative": (
+        {"payload": {"wire_rope": {"beta_share": 0.4}}},
+        "payload.wire_rope.beta_share: must lie in [0.5, 1] (gamma <= beta: dissipative), got 0.4",
+    ),
+    "payload-wire-rope-axis": (
+        {"payload": {"wire_rope": {"axes": ["x", "x"]}}},
+        "payload.wire_rope.axes: must be distinct names of ['x', 'y', 'z'], got ['x', 'x']",
+    ),
     "payload-unknown-source": (
         {"payload": {"sources": ["nowhere"]}},
         "payload.sources[0]: 'nowhere' is not a name of the sources section",

@@ -96,5 +96,7 @@ def test_the_dataset_says_its_units_and_its_damping():
     assert ds.los_per_acceleration.attrs["units"] == "rad s2 m-1"
     assert ds.frequency.attrs["units"] == "Hz"
     assert ds.attrs["damping_N_s_m"] == SECTION.middle_damping
-    assert list(ds.mount.values) == list(SECTION.mounts) and list(ds.carried.values) == ["fixed", "gimbal"]
+    # the wire rope's curves below yield are the six-axis isolator's, above it amplitude-dependent: not here
+    assert list(ds.mount.values) == [m for m in SECTION.mounts if m != "wire_rope"]
+    assert "wire_rope" in SECTION.mounts and list(ds.carried.values) == ["fixed", "gimbal"]
     assert np.all(np.isfinite(ds.los_per_rotation.values)) and np.all(ds.los_per_acceleration.values >= 0)

@@ -95,10 +95,12 @@ def run(
                 z[k + 1] = step.phi @ z[k] + step.gamma_u @ u[k] + step.gamma_v @ slopes[k]
     plant = state_space(isolator)  # the outputs do not depend on the damping
     y = z @ plant.c.T + u @ plant.du.T + rates @ plant.dv.T
-    return _dataset(isolator, t, u, y, np.full_like(applied, np.nan) if own else applied, z[:, 6:])
+    return run_dataset(isolator, t, u, y, np.full_like(applied, np.nan) if own else applied, z[:, 6:])
 
 
-def _dataset(isolator: SixAxisIsolator, t, u, y, applied, body_rates) -> xr.Dataset:
+def run_dataset(isolator: SixAxisIsolator, t, u, y, applied, body_rates) -> xr.Dataset:
+    """The run's dataset: mount and payload motion, element strokes and rates, applied damping (N s m-1, NaN: the
+    element's own) on `time`, from the mount coordinates u (n, 6), outputs y (`output_names`) and rates (n, 6)."""
     n_el = isolator.n_elements
     names = output_names(isolator)
     assert len(names) == y.shape[1]

@@ -19,7 +19,7 @@ URAD_PER_RAD = 1e6
 ANCHOR_URAD = 175.0  # ±0.01 deg: the angular vibration range gimbal makers quote (DJI)
 FLOOR_URAD = 10.0  # the axes' lower limit: values below it are drawn on it as downward triangles
 COLORS = {"paper_head": "tab:red", "balanced_head": "tab:orange", "gimbal": "tab:blue"}
-STYLES = {"rigid": ":", "yz": "--", "six_axis": "-"}
+STYLES = {"rigid": ":", "yz": "--", "six_axis": "-", "wire_rope": (0, (7, 2, 1, 2, 1, 2))}  # wire rope: dash-dot-dot
 LABELS = {
     "paper_head": "paper's head",
     "balanced_head": "head, balanced",
@@ -27,6 +27,7 @@ LABELS = {
     "rigid": "rigid",
     "yz": "Y-Z isolator",
     "six_axis": "six-axis isolator",
+    "wire_rope": "six-axis, wire rope",
 }
 
 
@@ -50,9 +51,8 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
                 if not np.any(np.isfinite(y)):
                     continue
                 color, below = COLORS.get(str(payload)), y < FLOOR_URAD
-                ax.plot(
-                    c, np.maximum(y, FLOOR_URAD), STYLES.get(str(mount), "-"), color=color, marker="o", ms=3, lw=1.3
-                )
+                style = STYLES.get(str(mount), "-")
+                ax.plot(c, np.maximum(y, FLOOR_URAD), ls=style, color=color, marker="o", ms=3, lw=1.3)
                 if np.any(below):  # e.g. a balanced head under a source without rotation: no line of sight at all
                     ax.plot(c[below], np.full(below.sum(), FLOOR_URAD), "v", color=color, ms=7, clip_on=False)
         if "law_los_std" in ds:  # on-off skyhook on the six-axis isolator, at its c_on
@@ -118,7 +118,7 @@ def _wrap(text: str, width: int) -> str:
     return "\n".join(lines[:3]) + (" …" if len(lines) > 3 else "")
 
 
-MOUNT_COLORS = {"rigid": "0.35", "yz": "tab:green", "six_axis": "tab:purple"}
+MOUNT_COLORS = {"rigid": "0.35", "yz": "tab:green", "six_axis": "tab:purple", "wire_rope": "tab:brown"}
 MOUNT_WIDTHS = {"rigid": 3.2, "yz": 1.8, "six_axis": 1.4}  # wide to narrow: a curve another hides shows around it
 CARRIED_STYLES = {"fixed": "--", "gimbal": "-"}
 CARRIED_LABELS = {"fixed": "camera fixed to the mount", "gimbal": "stabilised gimbal"}
@@ -177,10 +177,9 @@ def _mode_ticks(ax, design: xr.Dataset) -> None:
 
 
 def _transmissibility_legend(design: xr.Dataset) -> tuple[list, list[str]]:
-    handles = [
-        Line2D([], [], color=MOUNT_COLORS.get(str(m)), lw=MOUNT_WIDTHS.get(str(m), 2)) for m in design.mount.values
-    ]
-    labels = [LABELS.get(str(m), str(m)) for m in design.mount.values]
+    drawn = [m for m in design.mount.values if np.isfinite(design.los_per_rotation.sel(mount=m)).any()]
+    handles = [Line2D([], [], color=MOUNT_COLORS.get(str(m)), lw=MOUNT_WIDTHS.get(str(m), 2)) for m in drawn]
+    labels = [LABELS.get(str(m), str(m)) for m in drawn]
     handles += [Line2D([], [], color="0.3", ls=CARRIED_STYLES.get(str(c)), lw=1.4) for c in design.carried.values]
     labels += [CARRIED_LABELS.get(str(c), str(c)) for c in design.carried.values]
     if "mode_frequency" in design and "six_axis" in design.mount.values:

@@ -42,13 +42,11 @@ import xarray as xr
 
 from uavdamp import parallel
 from uavdamp.camera.optics import CameraModel
-from uavdamp.contract import STANDARD_GRAVITY, MountMotion, is_multiple
+from uavdamp.contract import MountMotion, is_multiple
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.gimbal import GimbalParams, design
-from uavdamp.platform.imu import ImuParams
 from uavdamp.platform.plants import Plants
-from uavdamp.platform.six_axis import KINDS
-from uavdamp.settings import ConfigError, attached, require, setting
+from uavdamp.settings import ConfigError, require, setting
 from uavdamp.sources.excitation import case_motion
 from uavdamp.sources.stated import StatedSource, motion
 from uavdamp.study import payload_laws as laws
@@ -65,73 +63,14 @@ from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face
     yz_isolator,
 )
 from uavdamp.study.payload_schedule import ScheduleSection, Table
+from uavdamp.study.payload_sections import GimbalSection, SixAxisSection, WireRopeSection
 from uavdamp.study.payload_table import TableSection
 from uavdamp.study.payload_table import check as check_table
 
 PAYLOADS = ("paper_head", "balanced_head", "gimbal")
-MOUNTS = ("rigid", "yz", "six_axis")
+MOUNTS = ("rigid", "yz", "six_axis", "wire_rope")
+SIX_AXIS_MOUNTS = ("six_axis", "wire_rope")  # the gimbal only: the heads' plant has a Y-Z isolator alone
 HEADS = ("paper_head", "balanced_head")
-
-
-@dataclass(frozen=True)
-class GimbalSection:
-    """The gimbal (``payload.gimbal``): `uavdamp.platform.gimbal.GimbalParams`' defaults for the keys not here."""
-
-    axes: tuple[str, ...] = setting(default=("roll", "pitch", "yaw"))
-    loop_rate_hz: float = setting(default=1000.0)  # Hz
-    rate_crossover_hz: tuple[float, ...] = setting(default=(40.0, 40.0, 40.0), length=3)  # Hz, roll, pitch, yaw
-    phase_margin_deg: tuple[float, ...] = setting(default=(50.0, 50.0, 50.0), length=3)  # deg, roll, pitch, yaw
-    attitude_fraction: float = setting(default=0.2)  # 1, attitude crossover / rate crossover
-    torque_constant: float = setting("torque_constant_n_m_a", default=0.12)  # N m A-1
-    current_limit: float = setting("current_limit_a", default=2.0)  # A
-    imbalance_m: tuple[float, ...] = setting(default=(0.0, 0.0, 0.0), length=3)  # m, camera COM from the axes
-    sensor_errors: bool = setting(default=True)  # the IMU's noise, bias and quantisation
-    # Hz, the complementary filter's crossover (accelerometer below, gyro above): BruGi's 7 s by default
-    estimator_crossover_hz: float = setting(default=1.0 / (2 * math.pi * 7.0))
-    accel_range_g: float = setting(default=2.0)  # g, the IMU accelerometer's full scale +/-
-    gyro_bias: tuple[float, ...] = setting("gyro_bias_rad_s", default=(0.0, 0.0, 0.0), length=3)  # rad s-1, x y z
-    camera_mass: float = attached(0.9)  # kg, the platform's camera (platform.structure): `with_camera`
-    camera_size: tuple[float, ...] = attached((0.10, 0.06, 0.06))  # m, its box's x, y, z edges, the same
-
-    def params(self) -> GimbalParams:
-        """The `GimbalParams` of this section (its own checks)."""
-        return GimbalParams(
-            axes=tuple(self.axes),
-            loop_rate_hz=self.loop_rate_hz,
-            rate_crossover_hz=tuple(self.rate_crossover_hz),
-            phase_margin_deg=tuple(self.phase_margin_deg),
-            attitude_fraction=self.attitude_fraction,
-            torque_constant=self.torque_constant,
-            current_limit=self.current_limit,
-            imbalance_m=tuple(self.imbalance_m),
-            estimator_crossover_hz=self.estimator_crossover_hz,
-            imu=ImuParams(accel_range=self.accel_range_g * STANDARD_GRAVITY, gyro_bias=tuple(self.gyro_bias)),
-            camera_mass=self.camera_mass,
-            camera_size=tuple(self.camera_size),
-        )
-
-    def validate(self, where: str) -> None:
-        try:
-            design(self.params())  # GimbalParams' checks and a gain design that exists
-        except ConfigError as error:  # its messages start "gimbal.<key>"
-            raise ConfigError(f"{where.rsplit('.', 1)[0]}.{error}") from None
-
-
-@dataclass(frozen=True)
-class SixAxisSection:
-    """The six-axis isolator (``payload.six_axis``): four equal elements on a square (`square_layout`)."""
-
-    kind: str = setting(default="rubber_ball")  # of uavdamp.platform.six_axis.KINDS
-    half_spacing: float = setting("half_spacing_m", default=0.05)  # m
-    stiffness: tuple[float, ...] = setting("stiffness_n_m", default=(250.0, 250.0, 500.0), length=3)  # N m-1
-    plate_mass: float = setting("plate_mass_kg", default=0.3)  # kg, isolated plate + gimbal base
-    com_height: float = setting("com_height_m", default=0.06)  # m, payload COM above the elements (< 0: below)
-
-    def validate(self, where: str) -> None:
-        require(self.kind in KINDS, f"{where}.kind", f"must be one of {list(KINDS)}, got {self.kind!r}")
-        require(self.half_spacing > 0, f"{where}.half_spacing_m", f"must be > 0, got {self.half_spacing}")
-        require(min(self.stiffness) > 0, f"{where}.stiffness_n_m", f"must be > 0, got {list(self.stiffness)}")
-        require(self.plate_mass >= 0, f"{where}.plate_mass_kg", f"must be >= 0, got {self.plate_mass}")
 
 
 @dataclass(frozen=True)
@@ -153,6 +92,7 @@ class PayloadSection:
     sources: tuple[str, ...] = setting(default=())  # stated sources run beside the study's cases
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
+    wire_rope: WireRopeSection = setting(default=WireRopeSection())  # the mount wire_rope: six_axis, Bouc-Wen
     schedule: ScheduleSection = setting(default=ScheduleSection())  # the scheduled law (payload_schedule)
     table: TableSection = setting(default=TableSection())  # the closed-form table of the best C (payload_table)
 
@@ -217,8 +157,8 @@ def head_platform(platform: PlatformParams, payload: str, time_step: float) -> P
 
 
 def modelled(payload: str, mount: str) -> bool:
-    """False where the comparison has no model: a head on the six-axis mount (its plant has a Y-Z isolator only)."""
-    return not (payload in HEADS and mount == "six_axis")
+    """False where the comparison has no model: a head on a six-axis mount (its plant has a Y-Z isolator only)."""
+    return not (payload in HEADS and mount in SIX_AXIS_MOUNTS)
 
 
 @dataclass(frozen=True)
@@ -265,8 +205,15 @@ def _series(setup: _Setup, t: np.ndarray, moved: MountMotion, payload: str, moun
     s = setup.section
     if payload in HEADS:
         return runs.head_series(setup.plants[payload], mount, t, moved, s.yz_stiffness, c)
+    if mount == "wire_rope":
+        return _gimbal(setup, t, runs.hysteretic_motions(s, [c], t, moved)[0])
     found = isolator(s, mount, c)
-    body = runs.rigid_motion(t, moved) if found is None else runs.isolated_motion(found, t, moved)
+    return _gimbal(setup, t, runs.rigid_motion(t, moved) if found is None else runs.isolated_motion(found, t, moved))
+
+
+def _gimbal(setup: _Setup, t: np.ndarray, body: runs.BodyMotion) -> runs.Series:
+    """The gimbal on `body` (`payload_runs.gimbal_series` with the section's sensor errors and seed)."""
+    s = setup.section
     errors = s.gimbal.sensor_errors
     return runs.gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
 
@@ -279,11 +226,20 @@ def _values(setup: _Setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.nd
     for (i, payload), (j, where) in ((a, b) for a in enumerate(s.payloads) for b in enumerate(s.mounts)):
         if not modelled(payload, where):
             continue
-        for k, c in [(slice(None), math.nan)] if where == "rigid" else enumerate(s.damping):
-            series = _series(setup, t, moved, payload, where, c)
+        if where == "wire_rope":  # every candidate's hysteretic isolator integrated side by side
+            bodies = runs.hysteretic_motions(s, s.damping, t, moved)
+            found = [(k, _gimbal(setup, t, body)) for k, body in enumerate(bodies)]
+        else:
+            found = [(k, _series(setup, t, moved, payload, where, c)) for k, c in _candidates(s, where)]
+        for k, series in found:
             for name, value in runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s).items():
                 values[name][i, j, k] = value
     return values
+
+
+def _candidates(section: PayloadSection, mount: str) -> list:
+    """(index, C) of the damping candidates on `mount`: the rigid mount's one run fills every index."""
+    return [(slice(None), math.nan)] if mount == "rigid" else list(enumerate(section.damping))
 
 
 def _floor(setup: _Setup) -> np.ndarray:

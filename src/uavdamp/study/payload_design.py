@@ -13,28 +13,33 @@ import xarray as xr
 from uavdamp.platform.gimbal import AXES
 from uavdamp.platform.gimbal_loop import design_report
 from uavdamp.platform.six_axis import DOFS, dominant_dofs, rigid_body_modes
+from uavdamp.platform.wire_rope import post_yield
 from uavdamp.study import transmissibility
 from uavdamp.study.payload_runs import gimbal_params, gimbal_payload, isolator
 
 
-def _modes(section) -> tuple[np.ndarray, np.ndarray]:
-    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and "")."""
+def _modes(section) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and ""), and the wire-rope
+    mount's fully yielded modes (`uavdamp.platform.wire_rope.post_yield`; NaN on the other mounts)."""
     freqs = np.full((len(section.mounts), len(DOFS)), math.nan)
+    yielded = freqs.copy()
     labels = np.full(freqs.shape, "", dtype=object)
     for j, mount in enumerate(section.mounts):
         found = isolator(section, mount, section.middle_damping)
         if found is not None:
             freqs[j], shapes = rigid_body_modes(found)
             labels[j] = ["+".join(d) for d in dominant_dofs(shapes, found.payload)]
-    return freqs, labels.astype(str)
+        if mount == "wire_rope":
+            yielded[j] = rigid_body_modes(post_yield(found, section.wire_rope.params()))[0]
+    return freqs, labels.astype(str), yielded
 
 
 def design_dataset(section) -> xr.Dataset:
-    """The mounts' six rigid-body modes (Hz, at the middle C; rigid: NaN) with their dominant DOFs beside the
-    gimbal's designed and achieved loop crossovers and margins per stabilised axis (`gimbal_loop.design_report`)
+    """The mounts' six rigid-body modes (Hz, at the middle C; rigid: NaN; the wire rope's small-amplitude and fully
+    yielded) with their dominant DOFs beside the gimbal's designed and achieved loop crossovers and margins per stabilised axis (`gimbal_loop.design_report`)
     and the transmissibility to the line of sight (`uavdamp.study.transmissibility.dataset`); `section` a
     `uavdamp.study.payload.PayloadSection`."""
-    freqs, labels = _modes(section)
+    freqs, labels, yielded = _modes(section)
     p = gimbal_params(section)
     report = design_report(p)
     axes = list(report.axis.values)
@@ -54,6 +59,11 @@ def design_dataset(section) -> xr.Dataset:
     data = {k: (("axis",), np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in per_axis.items()}
     data["mode_frequency"] = (("mount", "mode"), freqs, {"units": "Hz", "long_name": "isolator rigid-body mode"})
     data["mode_dofs"] = (("mount", "mode"), labels, {"units": "1", "long_name": "dominant DOFs of the mode (energy)"})
+    data["post_yield_mode_frequency"] = (
+        ("mount", "mode"),
+        yielded,
+        {"units": "Hz", "long_name": "rigid-body mode with the hysteretic axes at alpha k, fully yielded (wire rope)"},
+    )
     coords = {
         "mount": ("mount", list(section.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
         "mode": ("mode", np.arange(len(DOFS)), {"units": "1", "long_name": "rigid-body mode, ascending frequency"}),

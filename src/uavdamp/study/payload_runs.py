@@ -29,6 +29,7 @@ from uavdamp.camera.image_quality import frame_summary, frames_from_image_path
 from uavdamp.camera.optics import CameraModel, image_displacement_px
 from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Constant
+from uavdamp.platform import wire_rope
 from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia
 from uavdamp.platform.gimbal_sim import simulate
 from uavdamp.platform.six_axis import (
@@ -78,16 +79,17 @@ def gimbal_payload(section) -> Payload:
     return Payload(m_g + s.plate_mass, (0.0, 0.0, h), tuple(map(tuple, np.diag(gimbal + plate + shift))))
 
 
-def six_axis_isolator(section, c: float) -> SixAxisIsolator:
+def six_axis_isolator(section, c: float, kind: str | None = None) -> SixAxisIsolator:
     """The gimbal's six-axis isolator: `square_layout` of ``payload.six_axis``, every element semi-active with
-    damping C (N s m-1) along x, y and z, under the gimbal's gravity (geometric stiffness)."""
+    damping C (N s m-1) along x, y and z, under the gimbal's gravity (geometric stiffness); elements of `kind`
+    (None: ``six_axis.kind``)."""
     s = section.six_axis
     return square_layout(
         gimbal_payload(section),
         s.half_spacing,
         tuple(s.stiffness),
         (c, c, c),
-        kind=s.kind,
+        kind=s.kind if kind is None else kind,
         semi_active=True,
         gravity=gimbal_params(section).gravity,
     )
@@ -99,12 +101,14 @@ def yz_isolator(section, mass: float, c: float) -> SixAxisIsolator:
 
 
 def isolator(section, mount: str, c: float) -> SixAxisIsolator | None:
-    """The gimbal's isolator on `mount` ("rigid", "yz", "six_axis") at C (N s m-1): None for the rigid mount."""
+    """The gimbal's isolator on `mount` ("rigid", "yz", "six_axis", "wire_rope") at C (N s m-1): None for the rigid
+    mount; for "wire_rope" the six-axis isolator of wire-rope elements, its small-amplitude limit (the hysteresis
+    is ``payload.wire_rope``'s, run by `hysteretic_motions`)."""
     if mount == "rigid":
         return None
     if mount == "yz":
         return yz_isolator(section, gimbal_payload(section).mass, c)
-    return six_axis_isolator(section, c)
+    return six_axis_isolator(section, c, "wire_rope" if mount == "wire_rope" else None)
 
 
 # ----------------------------------------------------------------------------------------------------- runs
@@ -164,6 +168,26 @@ def isolated_motion(isolator: SixAxisIsolator, time: np.ndarray, mount: MountMot
     rates = z[:, 6:].T
     accelerations = np.gradient(rates, h, axis=1, edge_order=2)
     return BodyMotion(z[:, :6].T, rates, accelerations, float(np.abs(strokes).max()))
+
+
+def hysteretic_motions(section, dampings, time: np.ndarray, mount: MountMotion) -> list[BodyMotion]:
+    """The payload on the wire-rope isolator (``payload.wire_rope``) at each of `dampings` (N s m-1, every element),
+    integrated side by side (`uavdamp.platform.wire_rope.integrate`); rates the states', accelerations their
+    central differences (as `isolated_motion`)."""
+    found = isolator(section, "wire_rope", float(dampings[0]))
+    n_semi = len(found.semi_active)
+    u = _coordinates(mount)
+    h = float(time[1] - time[0])
+    states, _, _ = wire_rope.integrate(
+        found, section.wire_rope.params(), time, u[:, :3].T, u[:, 3:].T, [[float(c)] * n_semi for c in dampings]
+    )
+    rows = strokes_matrix(found).T
+    out = []
+    for w in states:
+        peak = float(np.abs((w[:, :6] - u) @ rows).max())
+        rates = w[:, 6:].T
+        out.append(BodyMotion(w[:, :6].T, rates, np.gradient(rates, h, axis=1, edge_order=2), peak))
+    return out
 
 
 def gimbal_series(

@@ -1,0 +1,215 @@
+"""Wire-rope elements on the six-axis isolator: Bouc-Wen hysteresis along chosen axes, run in the time domain.
+
+Along each hysteretic axis of an element the spring force on the payload is -(alpha k s + (1 - alpha) k z)
+(`uavdamp.platform.bouc_wen`: s the element's stroke, z its hysteretic displacement, k the element's stiffness
+along that axis) = -k s + (1 - alpha) k e with e = s - z; the element's damping (viscous, semi-active) and its
+stiffness along the other axes are those of `uavdamp.platform.six_axis`. So the payload obeys the six-axis model
+(full stiffness, with the weight's geometric stiffness) plus the generalised force H^T diag((1 - alpha) k) e, H
+the hysteretic strokes' rows of `six_axis.strokes_matrix`. At the loaded rest position z = s (assumption: no
+residual set from an earlier load).
+
+While |z| << z_max (the yield stroke, `WireRope.yield_stroke`) e = 0 and the element is the linear spring k: the
+six-axis isolator's modes and transmissibility are the wire rope's small-amplitude limit. Beyond it the element
+softens towards alpha k (`post_yield`) and dissipates its loop's area each cycle.
+
+Integration (`integrate`): each step h, the payload's states are exact for the mount's first-order hold and for
+e's (`statespace.discretise` of the model with e among the held inputs; e = 0 below yield, so that limit is the
+six-axis run's exact step map). z is advanced in the stroke: Bouc-Wen is rate-independent, z' = s' phi(z, sign
+s') with phi = A - (beta sign(s') sign(z) + gamma) |z|^n, so over a step z_{k+1} = z_k + the integral of phi ds
+over the step's stroke increment, taken by Heun's rule (second order in the increment over z_max; exact while
+phi = A). The increment depends on e_{k+1} through the states: a fixed-point iteration (`ITERATIONS`) finds both.
+A stroke reversal inside a step is taken at the step's end.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import cached_property
+
+import numpy as np
+import xarray as xr
+
+from uavdamp.platform.bouc_wen import BoucWen
+from uavdamp.platform.six_axis import (
+    AXES,
+    SixAxisIsolator,
+    damping_matrix,
+    mass_matrix,
+    state_space,
+    strokes_matrix,
+    total_stiffness,
+)
+from uavdamp.platform.six_axis_run import run_dataset
+from uavdamp.platform.statespace import StateSpace, discretise
+
+WHERE = "payload.wire_rope"  # the config section these parameters come from
+# fixed-point passes per step (the coupling per step is O(h^2 k / m)): a third moved a yielding run's rotations by
+# 5e-13 of their range
+ITERATIONS = 2
+
+
+@dataclass(frozen=True)
+class WireRope:
+    """The Bouc-Wen shape shared by every wire-rope element (`uavdamp.platform.bouc_wen` for the symbols): the
+    hysteretic axes (names of `AXES`), alpha (1, post-yield over initial stiffness), the yield stroke z_max (m,
+    A / (beta + gamma) to the power 1/n, with A = 1), the exponent n (1) and beta's share of beta + gamma (1, in
+    [0.5, 1]: gamma <= beta keeps the loop dissipative)."""
+
+    axes: tuple[str, ...] = ("x", "y")
+    alpha: float = 0.5
+    yield_stroke: float = 1.0e-3  # m
+    exponent: float = 1.0
+    beta_share: float = 0.5
+
+    def __post_init__(self):
+        axes = tuple(self.axes)
+        if not axes or len(set(axes)) != len(axes) or not set(axes) <= set(AXES):
+            raise ValueError(f"{WHERE}.axes: must be distinct names of {list(AXES)}, got {list(self.axes)}")
+        checks = (
+            ("alpha", 0 < self.alpha <= 1, "must lie in (0, 1] (0: no restoring stiffness once yielded)"),
+            ("yield_stroke_m", math.isfinite(self.yield_stroke) and self.yield_stroke > 0, "must be > 0"),
+            ("exponent", math.isfinite(self.exponent) and self.exponent >= 1, "must be >= 1"),
+            ("beta_share", 0.5 <= self.beta_share <= 1, "must lie in [0.5, 1] (gamma <= beta: dissipative)"),
+        )
+        value = {"alpha": self.alpha, "yield_stroke_m": self.yield_stroke}
+        value |= {"exponent": self.exponent, "beta_share": self.beta_share}
+        for key, ok, rule in checks:
+            if not ok:
+                raise ValueError(f"{WHERE}.{key}: {rule}, got {value[key]}")
+        object.__setattr__(self, "axes", axes)
+
+    @cached_property
+    def beta_gamma(self) -> tuple[float, float]:
+        """(beta, gamma), m^-n: beta_share and its complement of beta + gamma = yield_stroke^-n (A = 1)."""
+        total = self.yield_stroke ** (-self.exponent)
+        return self.beta_share * total, (1 - self.beta_share) * total
+
+    def element(self, stiffness: float) -> BoucWen:
+        """The `BoucWen` of one hysteretic axis of initial stiffness k (N m-1)."""
+        return BoucWen(stiffness, self.alpha, 1.0, *self.beta_gamma, self.exponent)
+
+    def phi(self, z: np.ndarray, direction: np.ndarray) -> np.ndarray:
+        """dz/ds (1) at hysteretic displacements z (m) for strokes moving in `direction` (+1, -1)."""
+        beta, gamma = self.beta_gamma
+        magnitude = np.abs(z) if self.exponent == 1 else np.abs(z) ** self.exponent
+        return 1.0 - (beta * direction * np.sign(z) + gamma) * magnitude
+
+
+def hysteretic_axes(isolator: SixAxisIsolator, wire: WireRope) -> list[tuple[int, int]]:
+    """(element, axis index) of every hysteretic axis, element-major."""
+    return [(i, AXES.index(a)) for i in range(isolator.n_elements) for a in wire.axes]
+
+
+def post_yield(isolator: SixAxisIsolator, wire: WireRope) -> SixAxisIsolator:
+    """The isolator with its hysteretic stiffnesses at alpha k (the tangent of a fully yielded element): its modes
+    are the wire rope's large-amplitude limit."""
+    scale = np.array([wire.alpha if a in wire.axes else 1.0 for a in AXES])
+    elements = tuple(replace(e, stiffness=tuple((np.asarray(e.stiffness) * scale).tolist())) for e in isolator.elements)
+    return replace(isolator, elements=elements)
+
+
+def _model(isolator: SixAxisIsolator, wire: WireRope, semi_active_damping) -> tuple[StateSpace, np.ndarray, np.ndarray]:
+    """The states' model with inputs (u, e) and their slopes, e = s - z the hysteretic axes' strokes beyond their
+    hysteretic displacement (the element force k s - (1 - alpha) k e); H (n_h, 6) and k (n_h,) N m-1."""
+    axes = hysteretic_axes(isolator, wire)
+    h_rows = strokes_matrix(isolator)[[3 * i + a for i, a in axes]]
+    k_h = np.array([isolator.elements[i].stiffness[a] for i, a in axes])
+    m = mass_matrix(isolator.payload)
+    k, c = total_stiffness(isolator), damping_matrix(isolator, semi_active_damping)
+    mk, mc = np.linalg.solve(m, k), np.linalg.solve(m, c)
+    g = np.linalg.solve(m, h_rows.T * ((1 - wire.alpha) * k_h))  # (6, n_h): q'' per unit e
+    n_h, zero, eye = k_h.size, np.zeros((6, 6)), np.eye(6)
+    b = np.zeros((12, 2 * (6 + n_h)))
+    b[6:, :6], b[6:, 6 : 6 + n_h] = mk, g  # u and e (first-order hold)
+    b[6:, 6 + n_h : 12 + n_h] = mc  # the mount's rate (e's slope enters only through the hold)
+    m_in = 6 + n_h
+    plant = StateSpace(
+        np.block([[zero, eye], [-mk, -mc]]), b, np.zeros((1, 12)), np.zeros((1, m_in)), np.zeros((1, m_in))
+    )
+    return plant, h_rows, k_h
+
+
+def integrate(
+    isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, dampings
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """States (n_c, n, 12): (q, q') of the payload (m, rad and rates), and z (n_c, n, n_h) m, for each of the
+    `dampings` (n_c values per semi-active element, N s m-1, or None: their own) under the mount motion
+    (translation (3, n) m, rotation (3, n) rad on a uniform `time`, s), integrated side by side; also the mount's
+    coordinates (n, 6). Starts with the payload moving with the mount and z = 0."""
+    t = np.asarray(time, dtype=float)
+    h = float(t[1] - t[0]) if t.size > 1 else math.nan
+    u = np.vstack([np.asarray(translation, dtype=float), np.asarray(rotation, dtype=float)]).T
+    if u.shape != (t.size, 6) or t.size < 2 or not np.all(np.isfinite(u)) or not np.allclose(np.diff(t), h, rtol=1e-9):
+        raise ValueError(f"time, translation, rotation: need a uniform time and finite (3, {t.size}) arrays")
+    models = [_model(isolator, wire, c) for c in dampings]
+    h_rows, k_h = models[0][1], models[0][2]
+    steps = [discretise(plant, h) for plant, _, _ in models]
+    n, n_c, n_h = t.size, len(steps), k_h.size
+    slopes = np.diff(u, axis=0) / h
+    # the mount's part of every step, and each step's map of (q, q', e_k) and of e's increment
+    forcing = np.stack([u[:-1] @ s.gamma_u[:, :6].T + slopes @ s.gamma_v[:, :6].T for s in steps])
+    maps = np.stack([np.hstack([s.phi, s.gamma_u[:, 6:]]) for s in steps])  # (n_c, 12, 12 + n_h)
+    ge1 = np.stack([s.gamma_v[:, 6:] / h for s in steps])  # (n_c, 12, n_h)
+    p = h_rows @ ge1[:, :6]  # (n_c, n_h, n_h): the stroke increment per unit e increment
+    mount_strokes = u @ h_rows.T  # (n, n_h): H u
+    w = np.zeros((n_c, n, 12))
+    w[:, 0, :6], w[:, 0, 6:] = u[0], slopes[0]
+    z = np.zeros((n_c, n, n_h))
+    s_k, de = np.zeros((n_c, n_h)), np.zeros((n_c, n_h))  # the strokes at the step's start; e's increment
+    for k in range(n - 1):
+        base = np.einsum("cij,cj->ci", maps, np.concatenate([w[:, k], s_k - z[:, k]], axis=1)) + forcing[:, k]
+        d0 = base[:, :6] @ h_rows.T - mount_strokes[k + 1] - s_k
+        for _ in range(ITERATIONS):
+            ds = d0 + np.einsum("cij,cj->ci", p, de)
+            direction = np.sign(ds)
+            slope0 = wire.phi(z[:, k], direction)
+            dz = 0.5 * ds * (slope0 + wire.phi(z[:, k] + ds * slope0, direction))
+            de = ds - dz
+        w[:, k + 1] = base + np.einsum("cij,cj->ci", ge1, de)
+        z[:, k + 1] = z[:, k] + dz
+        s_k = s_k + ds
+    return w, z, u
+
+
+def run(isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, semi_active_damping=None) -> xr.Dataset:
+    """The payload's response to a mount motion (`integrate`) at one `semi_active_damping` (N s m-1 per
+    semi-active element, constant; None: their own): the variables of `uavdamp.platform.six_axis_run.run` plus
+    each hysteretic axis's z (m) and force (1 - alpha) k z (N)."""
+    t = np.asarray(time, dtype=float)
+    w, z, u = integrate(isolator, wire, t, translation, rotation, [semi_active_damping])
+    k_h = _model(isolator, wire, semi_active_damping)[2]
+    return _dataset(isolator, wire, t, u, w[0], z[0], k_h, semi_active_damping)
+
+
+def _dataset(isolator, wire, t, u, w, z, k_h, semi_active_damping) -> xr.Dataset:
+    outputs = state_space(isolator)  # its outputs (q, strokes, stroke rates) do not depend on the stiffness
+    rates = np.vstack([np.diff(u, axis=0), np.diff(u, axis=0)[-1:]]) / (t[1] - t[0])
+    y = w @ outputs.c.T + u @ outputs.du.T + rates @ outputs.dv.T
+    n_semi = len(isolator.semi_active)
+    held = np.nan if semi_active_damping is None else np.asarray(semi_active_damping, dtype=float).ravel()
+    applied = np.broadcast_to(held, (t.size, n_semi))
+    ds = run_dataset(isolator, t, u, y, applied, w[:, 6:])
+    axes = hysteretic_axes(isolator, wire)
+    coord = {
+        "hysteretic_axis": (
+            "hysteretic_axis",
+            [f"{i}_{AXES[a]}" for i, a in axes],
+            {"units": "1", "long_name": "element and axis of a Bouc-Wen hysteresis"},
+        )
+    }
+    ds = ds.assign_coords(coord)
+    ds["hysteretic_displacement"] = (
+        ("hysteretic_axis", "time"),
+        z.T,
+        {"units": "m", "long_name": "Bouc-Wen hysteretic displacement z of the element's axis"},
+    )
+    ds["hysteretic_force"] = (
+        ("hysteretic_axis", "time"),
+        ((1 - wire.alpha) * k_h)[:, None] * z.T,
+        {"units": "N", "long_name": "hysteretic part (1 - alpha) k z of the element's spring force on its stroke"},
+    )
+    ds.attrs["title"] = "Six-axis isolator with wire-rope (Bouc-Wen) elements: payload response to a mount motion"
+    ds.attrs |= {"alpha": wire.alpha, "yield_stroke_m": wire.yield_stroke, "exponent": wire.exponent}
+    ds.attrs["beta_share"] = wire.beta_share
+    return ds
