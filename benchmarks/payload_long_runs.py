@@ -1,15 +1,17 @@
 """The payload stage's inputs run longer than the study's 5 s: does the start-up transient of the six-axis
 isolator's rocking modes set which damping wins?
 
-    python benchmarks/payload_long_runs.py [CONFIG ...] [--duration 20] [--settle 10] [--runs DIR]
+    python benchmarks/payload_long_runs.py [CONFIG ...] [--duration 20] [--settle 10] [--runs DIR] [--mount M]
 
 The gimbal on the six-axis isolator under each study case (rebuilt over `--duration` s from the helicopter runs in
 DIR, default reports/helicopter/runs of a run of `all`, as the excitation stage builds it) and each of
 ``payload.sources``, for `--duration` s scored from `--settle` s (the stage: 5 s from 1 s), at the constant damping
 candidates, under skyhook and under the scheduled law with the config's payload table: line-of-sight rms and
 detrended rms (µrad) per input as a Markdown table, the 5 s run's beside it, and the gimbal's rms on a still mount
-over the same window (its sensor-noise floor). A case rebuilt over the longer record is scaled on it (its dominant
-line read over the whole record): its scale per axis is printed beside the stage's 5 s case's (`--cases`).
+over the same window (its sensor-noise floor). `--mount wire_rope` prints the constant C on the wire-rope isolator
+instead (the laws' columns stay the six-axis isolator's). A case rebuilt over the longer record is scaled on it
+(its dominant line read over the whole record): its scale per axis is printed beside the stage's 5 s case's
+(`--cases`).
 """
 
 from __future__ import annotations
@@ -41,11 +43,11 @@ def cases(config: dict, duration: float, runs_dir: str):
     return excitation.cases_dataset(runs, options, {}, {})
 
 
-def row(section, platform, camera, table, t, moved) -> list[str]:
-    """The cells of one input, rms / detrended (µrad): each constant C, the best skyhook (by rms), the scheduled
-    law (its mean C)."""
+def row(section, platform, camera, table, t, moved, mount: str = "six_axis") -> list[str]:
+    """The cells of one input, rms / detrended (µrad): each constant C on `mount`, the best skyhook (by rms) and
+    the scheduled law (its mean C) on the six-axis isolator."""
     ds = payload.compare_payloads(t, moved, section, platform, camera, table)
-    own = ds.sel(payload="gimbal", mount="six_axis")
+    own = ds.sel(payload="gimbal", mount=mount)
     cells = [
         f"{a * URAD:.0f} / {b * URAD:.0f}"
         for a, b in zip(own.los_std.values, own.los_detrended_std.values, strict=True)
@@ -68,15 +70,18 @@ def main() -> None:
     parser.add_argument("--settle", type=float, default=10.0, help="s, the metrics from here")
     parser.add_argument("--runs", default="reports/helicopter/runs", help="the helicopter runs of a run of all")
     parser.add_argument("--cases", default="reports/excitation/cases.nc", help="the stage's own 5 s cases")
+    parser.add_argument("--mount", default="six_axis", choices=["six_axis", "wire_rope"], help="the constant C's")
     args = parser.parse_args()
     config = merged(args.configs)
     platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
     base = parse(payload.PayloadSection, config["payload"], "payload").with_camera(platform.structure)
-    base = dataclasses.replace(base, payloads=("gimbal",), mounts=("six_axis",))
+    mounts = ("six_axis",) if args.mount == "six_axis" else ("six_axis", args.mount)
+    base = dataclasses.replace(base, payloads=("gimbal",), mounts=mounts)
     camera = parse(CameraModel, config["camera"], "camera")
     table = payload_table.table_dataset(base)
     long = dataclasses.replace(base, duration_s=args.duration, settle_s=args.settle)
-    head = ["input", "run", *[f"C {c:g}" for c in base.damping], "best skyhook (c_on)", "scheduled (mean C)"]
+    head = ["input", "run", *[f"{args.mount} C {c:g}" for c in base.damping], "best skyhook (c_on)"]
+    head += ["scheduled (mean C)"]
     head += ["still mount (rms)"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
     runs = [
@@ -94,7 +99,7 @@ def main() -> None:
             else:
                 source = parse(StatedSource, config["sources"][name], f"sources.{name}")
                 t, moved, _ = motion(source, section.duration_s)
-            cells = row(section, platform, camera, table, t, moved)
+            cells = row(section, platform, camera, table, t, moved, args.mount)
             print(f"| {name} | {label} | " + " | ".join(cells) + " |", flush=True)
 
 

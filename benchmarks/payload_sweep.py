@@ -1,7 +1,8 @@
 """The payload stage's headline swept over the choices it depends on: the gimbal's estimator crossover, its
 accelerometer range, its rate-loop crossover, its gyro's bias, a camera imbalance, the six-axis isolator's
-stiffness (its modes), the camera's and the isolated plate's masses, the skyhook runs' off damping and lag, and the
-scheduled law's eligible damping (the slowest decay time it allows).
+stiffness (its modes), the wire-rope elements' hysteresis (alpha, yield stroke, axes, exponent), the camera's and
+the isolated plate's masses, the skyhook runs' off damping and lag, and the scheduled law's eligible damping (the
+slowest decay time it allows).
 
     python benchmarks/payload_sweep.py [CONFIG ...] [--cases reports/excitation/cases.nc] [--only TEXT ...]
 
@@ -90,6 +91,19 @@ def _rest(section, g, six, gimbal) -> dict[str, payload.PayloadSection]:
         out[f"scheduled initial C {c:g} N s/m"] = dataclasses.replace(section, schedule=chosen)
     for lag in (0.01, 0.03):  # the skyhook runs' damper: an MR damper's response time is 10-30 ms (assumption)
         out[f"skyhook damper lag {lag * 1e3:g} ms"] = dataclasses.replace(section, skyhook_lag=lag)
+    wire = section.wire_rope
+    for alpha in (0.2, 0.8):  # the wire rope's post-yield over initial stiffness (choice: 0.5)
+        out[f"wire rope alpha {alpha:g}"] = dataclasses.replace(
+            section, wire_rope=dataclasses.replace(wire, alpha=alpha)
+        )
+    for stroke in (1e-4, 1e-2):  # its yield stroke z_max (choice: 1 mm)
+        chosen = dataclasses.replace(wire, yield_stroke=stroke)
+        out[f"wire rope yield stroke {stroke * 1e3:g} mm"] = dataclasses.replace(section, wire_rope=chosen)
+    chosen = dataclasses.replace(wire, axes=("x", "y", "z"))  # hysteretic vertically too (choice: lateral only)
+    out["wire rope hysteretic along x, y and z"] = dataclasses.replace(section, wire_rope=chosen)
+    out["wire rope exponent 2 (a sharper loop)"] = dataclasses.replace(
+        section, wire_rope=dataclasses.replace(wire, exponent=2.0)
+    )
     for factor, label in ((0.5, "/ 2"), (2.0, "x 2")):  # the masses: choices (the gains are designed for each)
         out[f"camera mass {label} ({g.camera_mass * factor:g} kg)"] = gimbal(camera_mass=g.camera_mass * factor)
         plate = dataclasses.replace(six, plate_mass=six.plate_mass * factor)

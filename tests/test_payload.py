@@ -122,6 +122,15 @@ def test_design_dataset_holds_the_modes_and_the_loops():
     assert sorted(yz.mode_dofs.values[:2]) == ["y", "z"]
     np.testing.assert_allclose(yz.mode_frequency.values[:2], math.sqrt(1000.0 / 1.5) / (2 * math.pi), rtol=1e-9)
     assert np.isnan(ds.mode_frequency.sel(mount="rigid")).all()
+    # the wire rope: below yield the six-axis modes; fully yielded, the lateral elements at alpha k = 0.5 k keep the
+    # vertical mode (a lateral change cannot move it) and lower none above its own (less stiffness, same mass)
+    wire = ds.sel(mount="wire_rope")
+    np.testing.assert_array_equal(wire.mode_frequency.values, six.mode_frequency.values)
+    yielded = wire.post_yield_mode_frequency.values
+    assert np.isclose(yielded, vertical, rtol=1e-9).any()
+    assert np.all(yielded <= six.mode_frequency.values + 1e-9) and yielded[0] < 0.9 * six.mode_frequency.values[0]
+    assert np.isnan(ds.post_yield_mode_frequency.sel(mount=["rigid", "yz", "six_axis"])).all()
+    assert list(ds.mount.values) == ["rigid", "yz", "six_axis", "wire_rope"]  # the config's order
     np.testing.assert_allclose(ds.rate_crossover.values, 40.0, rtol=1e-3)
     np.testing.assert_allclose(ds.rate_phase_margin.values, 50.0, atol=0.1)
     _assert_metadata(ds)

@@ -71,4 +71,5 @@ def design_dataset(section) -> xr.Dataset:
     }
     attrs = {"damping_N_s_m": section.middle_damping, "gimbal_payload_mass_kg": gimbal_payload(section).mass}
     modes_and_loops = xr.Dataset(data, coords=coords, attrs=attrs)
-    return xr.merge([modes_and_loops, transmissibility.dataset(section)], combine_attrs="override")
+    # left join: the config's mounts in its order (the transmissibility has no wire rope: NaN there)
+    return xr.merge([modes_and_loops, transmissibility.dataset(section)], join="left", combine_attrs="override")
