@@ -189,8 +189,9 @@ def _whole(seed_runs: int = 2) -> list[xr.Dataset]:
 
 def test_the_dataset_has_metadata_nan_where_not_modelled_and_repeats():
     """Every variable and coordinate has units and long_name; NaN exactly where there is no model (a head on a
-    six-axis mount, linear or wire rope; the torque limit of a head; the stroke and the best C of the rigid mount), the rigid mount's
-    values the same at every C; two runs identical (the gimbal's noise seeded), with a noise floor above 0."""
+    six-axis mount, linear or wire rope; the torque limit of a head; the stroke and the best C of the rigid mount),
+    the rigid mount's values the same at every C; two runs identical (the gimbal's noise seeded), with a noise
+    floor above 0."""
     first, second = _whole()
     _assert_metadata(first)
     xr.testing.assert_identical(first, second)

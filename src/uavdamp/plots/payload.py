@@ -91,7 +91,7 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
 
 def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
     """Proxy entries: a colour per payload, a line style per mount, the skyhook runs and the scheduled law (at most
-    8; the anchor and the noise floor lines are labelled on the axes)."""
+    9; the anchor and the noise floor lines are labelled on the axes)."""
     handles = [Line2D([], [], color=COLORS.get(str(p)), lw=2) for p in ds.payload.values]
     labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
     handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]

@@ -1,13 +1,15 @@
 """The payload comparison: the paper's pan-tilt head, the same head balanced, and a gyro-stabilised gimbal, each on
-a rigid mount, the paper's Y-Z isolator and a six-axis isolator, over constant damping candidates.
+a rigid mount, the paper's Y-Z isolator and a six-axis isolator (rubber-ball or wire-rope elements), over constant
+damping candidates.
 
 Payloads: ``paper_head`` (the platform as configured: the camera's centre of mass off the tilt axis),
 ``balanced_head`` (the same with the camera's centre of mass on the axes: ``camera_com_x_m`` = ``camera_com_z_m`` = 0)
 and ``gimbal`` (`uavdamp.platform.gimbal`, designed from ``payload.gimbal``). Mounts: ``rigid`` (no isolator),
 ``yz`` (the paper's isolator, K = ``yz_stiffness_n_m``: the heads on their own plant, the gimbal on
-`uavdamp.platform.six_axis.paper_yz`) and ``six_axis`` (`six_axis_isolator`: the gimbal only; the heads' plant has
-a Y-Z isolator alone, so NaN). Every run is scored by `uavdamp.study.payload_runs.run_metrics`; the inputs are the
-study's cases and the stated sources ``payload.sources`` names (`inputs`, `compare_inputs`).
+`uavdamp.platform.six_axis.paper_yz`), ``six_axis`` (`six_axis_isolator`: the gimbal only; the heads' plant has
+a Y-Z isolator alone, so NaN) and ``wire_rope`` (its elements with Bouc-Wen hysteresis, ``payload.wire_rope``:
+`uavdamp.platform.wire_rope`; the gimbal only). Every run is scored by `uavdamp.study.payload_runs.run_metrics`;
+the inputs are the study's cases and the stated sources ``payload.sources`` names (`inputs`, `compare_inputs`).
 
 Choices and assumptions:
 - The gimbal's moving mass besides the camera (brackets, motors) is `MECHANISM_MASS_KG` (choice); the isolated

@@ -36,9 +36,9 @@ def _modes(section) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def design_dataset(section) -> xr.Dataset:
     """The mounts' six rigid-body modes (Hz, at the middle C; rigid: NaN; the wire rope's small-amplitude and fully
-    yielded) with their dominant DOFs beside the gimbal's designed and achieved loop crossovers and margins per stabilised axis (`gimbal_loop.design_report`)
-    and the transmissibility to the line of sight (`uavdamp.study.transmissibility.dataset`); `section` a
-    `uavdamp.study.payload.PayloadSection`."""
+    yielded) with their dominant DOFs beside the gimbal's designed and achieved loop crossovers and margins per
+    stabilised axis (`gimbal_loop.design_report`) and the transmissibility to the line of sight
+    (`uavdamp.study.transmissibility.dataset`); `section` a `uavdamp.study.payload.PayloadSection`."""
     freqs, labels, yielded = _modes(section)
     p = gimbal_params(section)
     report = design_report(p)
