@@ -131,6 +131,11 @@ def test_design_dataset_holds_the_modes_and_the_loops():
     assert np.all(yielded <= six.mode_frequency.values + 1e-9) and yielded[0] < 0.9 * six.mode_frequency.values[0]
     assert np.isnan(ds.post_yield_mode_frequency.sel(mount=["rigid", "yz", "six_axis"])).all()
     assert list(ds.mount.values) == ["rigid", "yz", "six_axis", "wire_rope"]  # the config's order
+    # the isolator maker's curves: the wire rope's vertical (linear by default) is the closed form's at any amplitude
+    curves = ds.wire_rope_transmissibility
+    assert curves.dims == ("excitation_amplitude", "direction", "isolator_frequency")
+    np.testing.assert_allclose(curves.sel(direction="z"), ds.six_axis_transmissibility.sel(direction="z").values
+                               * np.ones((curves.excitation_amplitude.size, 1)), rtol=1e-2)  # fmt: skip
     np.testing.assert_allclose(ds.rate_crossover.values, 40.0, rtol=1e-3)
     np.testing.assert_allclose(ds.rate_phase_margin.values, 50.0, atol=0.1)
     _assert_metadata(ds)

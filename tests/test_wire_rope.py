@@ -11,6 +11,7 @@ from scipy.integrate import solve_ivp
 from uavdamp.platform.bouc_wen import hysteresis
 from uavdamp.platform.six_axis import (
     Payload,
+    axis_transmissibility,
     damping_matrix,
     geometric_stiffness,
     mass_matrix,
@@ -20,7 +21,7 @@ from uavdamp.platform.six_axis import (
     strokes_matrix,
 )
 from uavdamp.platform.six_axis_run import run as linear_run
-from uavdamp.platform.wire_rope import WireRope, integrate, post_yield, run
+from uavdamp.platform.wire_rope import WireRope, integrate, post_yield, run, sine_transmissibility
 
 PAYLOAD = Payload.box(1.5, (0.10, 0.10, 0.08), (0.0, 0.0, 0.06))  # the gimbal's 1.5 kg, centre of mass 60 mm up
 K = (250.0, 250.0, 500.0)  # N m-1 per element x, y, z (the default six-axis isolator)
@@ -121,6 +122,21 @@ def test_each_elements_z_is_bouc_wens_own_integration_of_its_stroke():
         np.testing.assert_allclose(got.hysteretic_displacement.sel(hysteretic_axis=label), z, rtol=0, atol=1e-3 * 5e-4)
         np.testing.assert_allclose(got.hysteretic_force.sel(hysteretic_axis=label), force - 0.3 * K[0] * stroke,
                                    rtol=0, atol=1e-3 * 0.7 * K[0] * 5e-4)  # fmt: skip
+
+
+def test_the_sine_transmissibility_below_yield_is_the_linear_closed_form_and_moves_with_the_amplitude():
+    """At 0.1 µm (z_max / 10^4) the time-domain curve along x, y, z is `six_axis.axis_transmissibility`'s closed
+    form within 1 % (measured 0.14 %; it settles for seven of the slowest 1/e decay times: a 2 s settle, e^-2.8
+    here, left a 1.1 % transient at 3.4 Hz); at 3 mm, past the yield stroke, the lateral curves leave it by over
+    5 % and the vertical (not hysteretic by default) stays within 1 %."""
+    freq = np.geomspace(1.0, 40.0, 9)
+    wire = WireRope(alpha=0.5, yield_stroke=1e-3)
+    linear = axis_transmissibility(isolator(), freq, C)[:, :3].T
+    small = sine_transmissibility(isolator(), wire, freq, 1e-7, C)
+    np.testing.assert_allclose(small, linear, rtol=1e-2)
+    large = sine_transmissibility(isolator(), wire, freq, 3e-3, C)
+    assert np.abs(large[:2] / linear[:2] - 1).max() > 0.05
+    np.testing.assert_allclose(large[2], linear[2], rtol=1e-2)
 
 
 def test_candidates_side_by_side_are_each_ones_own_run():

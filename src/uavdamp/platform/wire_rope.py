@@ -130,6 +130,17 @@ def _model(isolator: SixAxisIsolator, wire: WireRope, semi_active_damping) -> tu
     return plant, h_rows, k_h
 
 
+def _mount(time, translation, rotation) -> tuple[np.ndarray, float, np.ndarray]:
+    """(time s, step s, the mount's coordinates (..., n, 6)), checked: a uniform time, finite (..., 3, n) inputs."""
+    t = np.asarray(time, dtype=float)
+    h = float(t[1] - t[0]) if t.size > 1 else math.nan
+    tr, rot = np.asarray(translation, dtype=float), np.asarray(rotation, dtype=float)
+    ok = t.size > 1 and tr.shape == rot.shape and tr.shape[-2:] == (3, t.size) and np.all(np.isfinite(tr))
+    if not (ok and np.all(np.isfinite(rot)) and np.allclose(np.diff(t), h, rtol=1e-9)):
+        raise ValueError(f"time, translation, rotation: need a uniform time and finite (3, {t.size}) arrays")
+    return t, h, np.swapaxes(np.concatenate([tr, rot], axis=-2), -1, -2)
+
+
 def integrate(
     isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, dampings
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -137,29 +148,34 @@ def integrate(
     `dampings` (n_c values per semi-active element, N s m-1, or None: their own) under the mount motion
     (translation (3, n) m, rotation (3, n) rad on a uniform `time`, s), integrated side by side; also the mount's
     coordinates (n, 6). Starts with the payload moving with the mount and z = 0."""
-    t = np.asarray(time, dtype=float)
-    h = float(t[1] - t[0]) if t.size > 1 else math.nan
-    u = np.vstack([np.asarray(translation, dtype=float), np.asarray(rotation, dtype=float)]).T
-    if u.shape != (t.size, 6) or t.size < 2 or not np.all(np.isfinite(u)) or not np.allclose(np.diff(t), h, rtol=1e-9):
-        raise ValueError(f"time, translation, rotation: need a uniform time and finite (3, {t.size}) arrays")
+    _, h, u = _mount(time, translation, rotation)
+    if u.ndim != 2:
+        raise ValueError("translation, rotation: one mount motion, (3, n) each")
     models = [_model(isolator, wire, c) for c in dampings]
-    h_rows, k_h = models[0][1], models[0][2]
-    steps = [discretise(plant, h) for plant, _, _ in models]
-    n, n_c, n_h = t.size, len(steps), k_h.size
-    slopes = np.diff(u, axis=0) / h
+    w, z = _steps(wire, [discretise(plant, h) for plant, _, _ in models], models[0][1], h, u)
+    return w, z, u
+
+
+def _steps(wire: WireRope, steps: list, h_rows: np.ndarray, h: float, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """States (B, n, 12) and z (B, n, n_h) of B runs side by side: run b on the step map steps[b] (a `Discrete`
+    of `_model`'s plant) under the mount coordinates u (n, 6), or u[b] when u is (B, n, 6)."""
+    n_c, n_h = len(steps), h_rows.shape[0]
+    u = np.broadcast_to(u, (n_c, *u.shape[-2:]))
+    n = u.shape[1]
+    slopes = np.diff(u, axis=1) / h
     # the mount's part of every step, and each step's map of (q, q', e_k) and of e's increment
-    forcing = np.stack([u[:-1] @ s.gamma_u[:, :6].T + slopes @ s.gamma_v[:, :6].T for s in steps])
+    forcing = np.stack([u[b, :-1] @ s.gamma_u[:, :6].T + slopes[b] @ s.gamma_v[:, :6].T for b, s in enumerate(steps)])
     maps = np.stack([np.hstack([s.phi, s.gamma_u[:, 6:]]) for s in steps])  # (n_c, 12, 12 + n_h)
     ge1 = np.stack([s.gamma_v[:, 6:] / h for s in steps])  # (n_c, 12, n_h)
     p = h_rows @ ge1[:, :6]  # (n_c, n_h, n_h): the stroke increment per unit e increment
-    mount_strokes = u @ h_rows.T  # (n, n_h): H u
+    mount_strokes = u @ h_rows.T  # (n_c, n, n_h): H u
     w = np.zeros((n_c, n, 12))
-    w[:, 0, :6], w[:, 0, 6:] = u[0], slopes[0]
+    w[:, 0, :6], w[:, 0, 6:] = u[:, 0], slopes[:, 0]
     z = np.zeros((n_c, n, n_h))
     s_k, de = np.zeros((n_c, n_h)), np.zeros((n_c, n_h))  # the strokes at the step's start; e's increment
     for k in range(n - 1):
         base = np.einsum("cij,cj->ci", maps, np.concatenate([w[:, k], s_k - z[:, k]], axis=1)) + forcing[:, k]
-        d0 = base[:, :6] @ h_rows.T - mount_strokes[k + 1] - s_k
+        d0 = base[:, :6] @ h_rows.T - mount_strokes[:, k + 1] - s_k
         for _ in range(ITERATIONS):
             ds = d0 + np.einsum("cij,cj->ci", p, de)
             direction = np.sign(ds)
@@ -169,7 +185,45 @@ def integrate(
         w[:, k + 1] = base + np.einsum("cij,cj->ci", ge1, de)
         z[:, k + 1] = z[:, k] + dz
         s_k = s_k + ds
-    return w, z, u
+    return w, z
+
+
+def sine_transmissibility(
+    isolator: SixAxisIsolator,
+    wire: WireRope,
+    freq_hz,
+    amplitude: float,
+    semi_active_damping=None,
+    settle_s: float | None = None,
+    fit_s: float = 1.0,
+    h: float = 5e-4,
+) -> np.ndarray:
+    """|payload translation / mount translation| (3, nf) along x, y, z (at the reference point, as
+    `six_axis.axis_transmissibility`) for a mount sine of `amplitude` m along that axis alone at each frequency
+    (Hz), the semi-active elements at `semi_active_damping` (N s m-1; None: their own): the response's component
+    at the drive frequency (a least-squares sine and offset over the last `fit_s` s of a run of settle_s + fit_s s
+    from rest on a grid of h s) over the amplitude; settle_s None: seven of the linear isolator's slowest 1/e decay
+    times (its start-up transient left below 0.1 %; the hysteresis only adds damping). A wire rope's
+    transmissibility depends on the amplitude; below its yield stroke it is the linear isolator's."""
+    f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
+    if settle_s is None:
+        poles = np.linalg.eigvals(state_space(isolator, semi_active_damping).a)
+        settle_s = 7.0 * float(np.max(-1.0 / poles.real))
+    t = np.arange(int(round((settle_s + fit_s) / h)) + 1) * h
+    u = np.zeros((3, f.size, t.size, 6))
+    for axis in range(3):
+        u[axis, :, :, axis] = amplitude * np.sin(2 * np.pi * f[:, None] * t)
+    plant, h_rows, _ = _model(isolator, wire, semi_active_damping)
+    w, _ = _steps(wire, [discretise(plant, h)] * (3 * f.size), h_rows, h, u.reshape(-1, t.size, 6))
+    keep = t >= t[-1] - fit_s
+    out = np.empty((3, f.size))
+    for axis in range(3):
+        for j, freq in enumerate(f):
+            phase = 2 * np.pi * freq * t[keep]
+            basis = np.column_stack([np.sin(phase), np.cos(phase), np.ones_like(phase)])
+            coef = np.linalg.lstsq(basis, w[axis * f.size + j, keep, axis], rcond=None)[0]
+            out[axis, j] = math.hypot(coef[0], coef[1]) / amplitude
+    return out
 
 
 def run(isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, semi_active_damping=None) -> xr.Dataset:

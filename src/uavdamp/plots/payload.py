@@ -126,12 +126,14 @@ CARRIED_LABELS = {"fixed": "camera fixed to the mount", "gimbal": "stabilised gi
 
 def transmissibility_figure(design: xr.Dataset) -> Figure:
     """The isolator makers' curves to the line of sight (`uavdamp.study.transmissibility`): top, |line of sight|
-    per mount rotation about the same axis (rad/rad); bottom, |line of sight| (all axes) per mount acceleration
+    per mount rotation about the same axis (rad/rad); middle, |line of sight| (all axes) per mount acceleration
     along x, y, z (µrad per g); mount by colour, fixed camera or gimbal by line style, the six-axis isolator's
-    modes as ticks on the top axes. A zero response (a fixed camera on the rigid mount under a translation) is not
-    drawn."""
-    fig = Figure(figsize=(14.0, 7.6), layout="constrained")
-    axes = fig.subplots(2, 3, sharex=True)
+    modes as ticks on the top axes; with a wire-rope mount, a bottom row of the isolators' per-axis curves
+    (`uavdamp.study.payload_design.isolator_curves`). A zero response (a fixed camera on the rigid mount under a
+    translation) is not drawn."""
+    rows = 3 if "wire_rope_transmissibility" in design else 2
+    fig = Figure(figsize=(14.0, 3.8 * rows), layout="constrained")
+    axes = fig.subplots(rows, 3, sharex=True)
     f = design.frequency.values
     for row, (name, dim, scale) in enumerate(
         (("los_per_rotation", "axis", 1.0), ("los_per_acceleration", "direction", G * URAD_PER_RAD))
@@ -161,10 +163,43 @@ def transmissibility_figure(design: xr.Dataset) -> Figure:
                 ax.set_title(f"all axes: line of sight per mount acceleration along {label}", fontsize=10)
                 ax.set_ylabel("line of sight (µrad per g)")
                 ax.set_xlabel("frequency of the mount's sine motion (Hz)")
+    if rows == 3:
+        _isolator_row(axes[2], design)
+        for ax in axes[1]:
+            ax.set_xlabel("")
     fig.legend(*_transmissibility_legend(design), loc="outside right upper", fontsize=8)
     damping = number(float(design.attrs.get("damping_N_s_m", np.nan)))
-    fig.suptitle(f"Mount motion to camera line of sight, closed form (isolators at C = {damping} N s/m)", fontsize=11)
+    title = f"Mount motion to camera line of sight, closed form (isolators at C = {damping} N s/m)"
+    if rows == 3:
+        title += "\nbottom row: the isolators per axis (the wire rope in the time domain, per sine amplitude)"
+    fig.suptitle(title, fontsize=11)
     return fig
+
+
+AMPLITUDE_STYLES = ("-", "--", ":")  # the wire rope's curves, smallest amplitude first
+
+
+def _isolator_row(axes, design: xr.Dataset) -> None:
+    """The isolator maker's per-axis curves: the six-axis isolator's closed form and the wire rope's at each
+    amplitude (time domain), payload translation per mount translation along x, y, z."""
+    f = design.isolator_frequency.values
+    for ax, direction in zip(axes, design.direction.values, strict=True):
+        y = design.six_axis_transmissibility.sel(direction=direction).values
+        ax.plot(f, y, color=MOUNT_COLORS["six_axis"], lw=3.0, alpha=0.6, label="six-axis (closed form)")
+        for style, amplitude in zip(AMPLITUDE_STYLES, design.excitation_amplitude.values, strict=False):
+            y = design.wire_rope_transmissibility.sel(direction=direction, excitation_amplitude=amplitude).values
+            label = f"wire rope, {number(float(amplitude) * 1e3)} mm sine"
+            ax.plot(f, y, style, color=MOUNT_COLORS["wire_rope"], lw=1.4, marker="o", ms=2.5, label=label)
+        ax.axhline(1.0, color="0.5", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.grid(True, which="both", alpha=0.3)
+        plain_log_ticks(ax, "x")
+        plain_log_ticks(ax, "y")
+        ax.set_title(f"{direction}: the isolator alone, payload / mount translation", fontsize=10)
+        ax.set_ylabel("transmissibility (m/m)")
+        ax.set_xlabel("frequency of the mount's sine motion (Hz)")
+    axes[0].legend(fontsize=7, loc="lower left")
 
 
 def _mode_ticks(ax, design: xr.Dataset) -> None:

@@ -12,8 +12,8 @@ import xarray as xr
 
 from uavdamp.platform.gimbal import AXES
 from uavdamp.platform.gimbal_loop import design_report
-from uavdamp.platform.six_axis import DOFS, dominant_dofs, rigid_body_modes
-from uavdamp.platform.wire_rope import post_yield
+from uavdamp.platform.six_axis import DOFS, axis_transmissibility, dominant_dofs, rigid_body_modes
+from uavdamp.platform.wire_rope import post_yield, sine_transmissibility
 from uavdamp.study import transmissibility
 from uavdamp.study.payload_runs import gimbal_params, gimbal_payload, isolator
 
@@ -32,6 +32,52 @@ def _modes(section) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if mount == "wire_rope":
             yielded[j] = rigid_body_modes(post_yield(found, section.wire_rope.params()))[0]
     return freqs, labels.astype(str), yielded
+
+
+WIRE_ROPE_FREQ_HZ = np.geomspace(1.0, 40.0, 25)  # Hz, the wire rope's time-domain curves (choice: 1-40 Hz)
+WIRE_ROPE_AMPLITUDES_M = (1e-4, 1e-3, 3e-3)  # m, their mount sines (choice: about the cases' lateral strokes)
+
+
+def isolator_curves(section) -> xr.Dataset:
+    """The isolator maker's per-axis curve |payload translation / mount translation| along x, y, z at the middle C:
+    the six-axis isolator's in closed form (`six_axis.axis_transmissibility`) and the wire rope's at each of
+    `WIRE_ROPE_AMPLITUDES_M` in the time domain (`wire_rope.sine_transmissibility`), on `WIRE_ROPE_FREQ_HZ`; empty
+    without a wire-rope mount."""
+    if "wire_rope" not in section.mounts:
+        return xr.Dataset()
+    c = section.middle_damping
+    found = isolator(section, "wire_rope", c)
+    c_semi = [c] * len(found.semi_active)
+    wire = section.wire_rope.params()
+    curves = np.stack(
+        [sine_transmissibility(found, wire, WIRE_ROPE_FREQ_HZ, a, c_semi) for a in WIRE_ROPE_AMPLITUDES_M]
+    )
+    linear = axis_transmissibility(found, WIRE_ROPE_FREQ_HZ, c_semi)[:, :3].T
+    dims = ("excitation_amplitude", "direction", "isolator_frequency")
+    text = "payload translation per mount translation along the axis (a mount sine of that amplitude along it alone)"
+    return xr.Dataset(
+        {
+            "wire_rope_transmissibility": (dims, curves, {"units": "1", "long_name": f"wire rope: {text}"}),
+            "six_axis_transmissibility": (
+                dims[1:],
+                linear,
+                {"units": "1", "long_name": f"six-axis, closed form: {text}"},
+            ),
+        },
+        coords={
+            "excitation_amplitude": (
+                "excitation_amplitude",
+                list(WIRE_ROPE_AMPLITUDES_M),
+                {"units": "m", "long_name": "mount sine amplitude"},
+            ),
+            "isolator_frequency": (
+                "isolator_frequency",
+                WIRE_ROPE_FREQ_HZ,
+                {"units": "Hz", "long_name": "mount sine frequency (per-axis curves)"},
+            ),
+            "direction": ("direction", ["x", "y", "z"], {"units": "1", "long_name": "mount translation direction"}),
+        },
+    )
 
 
 def design_dataset(section) -> xr.Dataset:
@@ -72,4 +118,5 @@ def design_dataset(section) -> xr.Dataset:
     attrs = {"damping_N_s_m": section.middle_damping, "gimbal_payload_mass_kg": gimbal_payload(section).mass}
     modes_and_loops = xr.Dataset(data, coords=coords, attrs=attrs)
     # left join: the config's mounts in its order (the transmissibility has no wire rope: NaN there)
-    return xr.merge([modes_and_loops, transmissibility.dataset(section)], join="left", combine_attrs="override")
+    merged = xr.merge([modes_and_loops, transmissibility.dataset(section)], join="left", combine_attrs="override")
+    return xr.merge([merged, isolator_curves(section)], combine_attrs="override")
