@@ -2,6 +2,7 @@
 isolator's rocking modes set which damping wins?
 
     python benchmarks/payload_long_runs.py [CONFIG ...] [--duration 20] [--settle 10] [--runs DIR] [--mount M]
+                                           [--input NAME ...]
 
 The gimbal on the six-axis isolator under each study case (rebuilt over `--duration` s from the helicopter runs in
 DIR, default reports/helicopter/runs of a run of `all`, as the excitation stage builds it) and each of
@@ -71,6 +72,7 @@ def main() -> None:
     parser.add_argument("--runs", default="reports/helicopter/runs", help="the helicopter runs of a run of all")
     parser.add_argument("--cases", default="reports/excitation/cases.nc", help="the stage's own 5 s cases")
     parser.add_argument("--mount", default="six_axis", choices=["six_axis", "wire_rope"], help="the constant C's")
+    parser.add_argument("--input", action="append", default=[], help="only this input (repeatable; default all)")
     args = parser.parse_args()
     config = merged(args.configs)
     platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
@@ -89,7 +91,8 @@ def main() -> None:
         (f"{args.duration:g} s from {args.settle:g} s", long),
     ]
     found, short = cases(config, args.duration, args.runs), io.open_dataset(args.cases)
-    for name in [str(c) for c in found.case.values] + list(base.sources):
+    names = [str(c) for c in found.case.values] + list(base.sources)
+    for name in [n for n in names if not args.input or n in args.input]:
         for label, section in runs:
             if name in found.case.values:  # the stage's case for its own window, the rebuilt one for the long
                 own = short if section is base else found
