@@ -18,6 +18,7 @@ from uavdamp.camera.optics import CameraModel
 from uavdamp.contract import MountMotion
 from uavdamp.platform.gimbal import design
 from uavdamp.platform.gimbal_loop import base_to_los
+from uavdamp.platform.six_axis import mass_matrix, total_stiffness
 from uavdamp.platform.six_axis_run import run as six_axis_run
 from uavdamp.settings import ConfigError, parse
 from uavdamp.sources.stated import StatedSource
@@ -131,6 +132,16 @@ def test_design_dataset_holds_the_modes_and_the_loops():
     assert np.all(yielded <= six.mode_frequency.values + 1e-9) and yielded[0] < 0.9 * six.mode_frequency.values[0]
     assert np.isnan(ds.post_yield_mode_frequency.sel(mount=["rigid", "yz", "six_axis"])).all()
     assert list(ds.mount.values) == ["rigid", "yz", "six_axis", "wire_rope"]  # the config's order
+    # mode shapes: the vertical mode pure z, each shape an eigenvector K phi = w^2 M phi (the isolator's own
+    # matrices), its largest coordinate +1
+    iso = six_axis_isolator(_section(), float(ds.attrs["damping_N_s_m"]))
+    k, m = total_stiffness(iso), mass_matrix(iso.payload)
+    for j in range(6):
+        phi, w = six.mode_shape.isel(mode=j).values, 2 * math.pi * float(six.mode_frequency.isel(mode=j))
+        np.testing.assert_allclose(k @ phi, w**2 * m @ phi, rtol=0, atol=1e-9 * np.abs(k @ phi).max())
+        assert np.abs(phi).max() == pytest.approx(1.0) and phi[np.argmax(np.abs(phi))] == pytest.approx(1.0)
+    np.testing.assert_allclose(six.mode_shape.sel(mode=list(six.mode_dofs.values).index("z")), [0, 0, 1, 0, 0, 0],
+                               atol=1e-12)  # fmt: skip
     # the isolator maker's curves: the wire rope's vertical (linear by default) is the closed form's at any amplitude
     curves = ds.wire_rope_transmissibility
     assert curves.dims == ("excitation_amplitude", "direction", "isolator_frequency")

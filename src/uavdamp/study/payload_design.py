@@ -18,20 +18,24 @@ from uavdamp.study import transmissibility
 from uavdamp.study.payload_runs import gimbal_params, gimbal_payload, isolator
 
 
-def _modes(section) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and ""), and the wire-rope
-    mount's fully yielded modes (`uavdamp.platform.wire_rope.post_yield`; NaN on the other mounts)."""
+def _modes(section) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(mount, mode) frequencies Hz and dominant-DOF labels at the middle C (rigid: NaN and ""), the mode shapes
+    (mount, dof, mode) at the reference point scaled to a largest coordinate of +1 (m or rad per unit of it), and
+    the wire-rope mount's fully yielded modes (`uavdamp.platform.wire_rope.post_yield`; NaN on the other mounts)."""
     freqs = np.full((len(section.mounts), len(DOFS)), math.nan)
     yielded = freqs.copy()
+    shapes = np.full((len(section.mounts), len(DOFS), len(DOFS)), math.nan)
     labels = np.full(freqs.shape, "", dtype=object)
     for j, mount in enumerate(section.mounts):
         found = isolator(section, mount, section.middle_damping)
         if found is not None:
-            freqs[j], shapes = rigid_body_modes(found)
-            labels[j] = ["+".join(d) for d in dominant_dofs(shapes, found.payload)]
+            freqs[j], phi = rigid_body_modes(found)
+            labels[j] = ["+".join(d) for d in dominant_dofs(phi, found.payload)]
+            largest = phi[np.argmax(np.abs(phi), axis=0), np.arange(phi.shape[1])]
+            shapes[j] = phi / largest
         if mount == "wire_rope":
             yielded[j] = rigid_body_modes(post_yield(found, section.wire_rope.params()))[0]
-    return freqs, labels.astype(str), yielded
+    return freqs, labels.astype(str), shapes, yielded
 
 
 WIRE_ROPE_FREQ_HZ = np.geomspace(1.0, 40.0, 25)  # Hz, the wire rope's time-domain curves (choice: 1-40 Hz)
@@ -85,7 +89,7 @@ def design_dataset(section) -> xr.Dataset:
     yielded) with their dominant DOFs beside the gimbal's designed and achieved loop crossovers and margins per
     stabilised axis (`gimbal_loop.design_report`) and the transmissibility to the line of sight
     (`uavdamp.study.transmissibility.dataset`); `section` a `uavdamp.study.payload.PayloadSection`."""
-    freqs, labels, yielded = _modes(section)
+    freqs, labels, shapes, yielded = _modes(section)
     p = gimbal_params(section)
     report = design_report(p)
     axes = list(report.axis.values)
@@ -105,6 +109,15 @@ def design_dataset(section) -> xr.Dataset:
     data = {k: (("axis",), np.asarray(v), {"units": u, "long_name": n}) for k, (v, u, n) in per_axis.items()}
     data["mode_frequency"] = (("mount", "mode"), freqs, {"units": "Hz", "long_name": "isolator rigid-body mode"})
     data["mode_dofs"] = (("mount", "mode"), labels, {"units": "1", "long_name": "dominant DOFs of the mode (energy)"})
+    data["mode_shape"] = (
+        ("mount", "dof", "mode"),
+        shapes,
+        {
+            "units": "1",
+            "long_name": "mode shape at the reference point, largest coordinate +1: m (x, y, z) or rad (rotations) per "
+            "unit of it",
+        },
+    )
     data["post_yield_mode_frequency"] = (
         ("mount", "mode"),
         yielded,
@@ -113,6 +126,7 @@ def design_dataset(section) -> xr.Dataset:
     coords = {
         "mount": ("mount", list(section.mounts), {"units": "1", "long_name": "camera mount (isolator)"}),
         "mode": ("mode", np.arange(len(DOFS)), {"units": "1", "long_name": "rigid-body mode, ascending frequency"}),
+        "dof": ("dof", list(DOFS), {"units": "1", "long_name": "payload DOF (x, y, z; rotations about them)"}),
         "axis": ("axis", axes, {"units": "1", "long_name": "stabilised gimbal axis"}),
     }
     attrs = {"damping_N_s_m": section.middle_damping, "gimbal_payload_mass_kg": gimbal_payload(section).mass}
