@@ -30,7 +30,8 @@ H = 5e-4  # s, the payload stage's grid
 
 
 def isolator(stiffness=K):
-    return square_layout(PAYLOAD, 0.05, stiffness, (3.0, 3.0, 3.0), kind="wire_rope", semi_active=True, gravity=9.80665)
+    """The elements' own damping (30 N s/m) is not the runs' C: a run that took it would show."""
+    return square_layout(PAYLOAD, 0.05, stiffness, (30.0,) * 3, kind="wire_rope", semi_active=True, gravity=9.80665)
 
 
 def mount(duration: float, amplitude: float):
@@ -52,7 +53,8 @@ def test_alpha_one_is_the_linear_isolators_exact_run():
     t, tr, rot = mount(1.0, 1.3e-3)
     wire = run(isolator(), WireRope(alpha=1.0), t, tr, rot, C)
     linear = linear_run(isolator(), t, tr, rot, schedule=np.array(C))
-    for name in ("payload_translation", "payload_rotation", "element_stroke", "payload_angular_rate"):
+    names = ("payload_translation", "payload_rotation", "element_stroke", "payload_angular_rate", "damping")
+    for name in (*names, "element_stroke_rate", "payload_velocity"):
         assert relative(wire[name], linear[name]) < 1e-12, name
     assert float(np.abs(wire.hysteretic_force).max()) == 0.0
 
@@ -107,14 +109,15 @@ def test_a_yielding_run_matches_an_adaptive_integration_of_the_same_equations():
     assert relative(got.payload_translation, ref.y[:3]) < 3e-4
 
 
-def test_each_elements_z_is_bouc_wens_own_integration_of_its_stroke():
+@pytest.mark.parametrize("exponent", [1.0, 2.0])
+def test_each_elements_z_is_bouc_wens_own_integration_of_its_stroke(exponent):
     """Bouc-Wen is rate-independent: z follows the stroke's path alone. Each hysteretic axis's z from the run against
     `bouc_wen.hysteresis` (LSODA in time, rtol 1e-8) of that axis's own stroke history from the run, linear between
     samples as in the run: within 1e-3 of z_max (Heun's rule in the stroke: measured 2e-4)."""
-    wire = WireRope(alpha=0.3, yield_stroke=5e-4, exponent=1.0, beta_share=0.75)
+    wire = WireRope(alpha=0.3, yield_stroke=5e-4, exponent=exponent, beta_share=0.75)
     t, tr, rot = mount(0.5, 2e-3)
     got = run(isolator(), wire, t, tr, rot, C)
-    assert float(np.abs(got.hysteretic_displacement).max()) > 0.99 * wire.yield_stroke  # the elements yield
+    assert float(np.abs(got.hysteretic_displacement).max()) > 0.98 * wire.yield_stroke  # the elements yield
     for label in ("0_x", "3_y"):
         element, axis = label.split("_")
         stroke = got.element_stroke.sel(element=int(element), axis=axis).values
@@ -143,8 +146,9 @@ def test_candidates_side_by_side_are_each_ones_own_run():
     """`integrate` over several dampings gives each one's `run` (the batch shares nothing but the mount)."""
     wire = WireRope(alpha=0.3, yield_stroke=5e-4)
     t, tr, rot = mount(0.3, 2e-3)
-    states, z, _ = integrate(isolator(), wire, t, tr, rot, [[1.0] * 4, [30.0] * 4])
-    for j, c in enumerate((1.0, 30.0)):
+    t = t + 3.0  # any start
+    states, z, _ = integrate(isolator(), wire, t, tr, rot, [[1.0] * 4, [10.0] * 4])
+    for j, c in enumerate((1.0, 10.0)):
         alone = run(isolator(), wire, t, tr, rot, [c] * 4)
         np.testing.assert_allclose(states[j, :, 3:6].T, alone.payload_rotation, rtol=0, atol=1e-15)
         np.testing.assert_allclose(z[j].T, alone.hysteretic_displacement, rtol=0, atol=1e-15)
@@ -166,6 +170,7 @@ def test_post_yield_stiffness_is_alpha_k_on_the_hysteretic_axes_only():
     ("change", "key"),
     [
         ({"alpha": 0.0}, "payload.wire_rope.alpha"),
+        ({"alpha": 1.5}, "payload.wire_rope.alpha"),
         ({"yield_stroke": -1e-3}, "payload.wire_rope.yield_stroke_m"),
         ({"exponent": 0.5}, "payload.wire_rope.exponent"),
         ({"beta_share": 0.4}, "payload.wire_rope.beta_share"),
@@ -175,3 +180,28 @@ def test_post_yield_stiffness_is_alpha_k_on_the_hysteretic_axes_only():
 def test_bad_parameters_are_refused_by_their_key(change, key):
     with pytest.raises(ValueError, match=key.replace(".", r"\.")):
         WireRope(**change)
+
+
+@pytest.mark.parametrize(
+    "change",
+    ["nan translation", "nan rotation", "uneven time", "short rows", "unequal shapes", "one sample", "batch"],
+)
+def test_a_bad_mount_motion_is_refused(change):
+    t, tr, rot = mount(0.05, 1e-3)
+    if change == "nan translation":
+        tr[0, 3] = np.nan
+    elif change == "nan rotation":
+        rot[2, 5] = np.nan
+    elif change == "uneven time":
+        t = t.copy()
+        t[4] += 1e-5
+    elif change == "short rows":
+        tr, rot = tr[:, :-1], rot[:, :-1]
+    elif change == "unequal shapes":
+        rot = rot[:2]
+    elif change == "one sample":
+        t, tr, rot = t[:1], tr[:, :1], rot[:, :1]
+    else:
+        tr, rot = np.stack([tr, tr]), np.stack([rot, rot])
+    with pytest.raises(ValueError, match="translation, rotation"):
+        integrate(isolator(), WireRope(), t, tr, rot, [C])
