@@ -123,7 +123,7 @@ def _model(isolator: SixAxisIsolator, wire: WireRope, semi_active_damping) -> tu
     b = np.zeros((12, 2 * (6 + n_h)))
     b[6:, :6], b[6:, 6 : 6 + n_h] = mk, g  # u and e (first-order hold)
     b[6:, 6 + n_h : 12 + n_h] = mc  # the mount's rate (e's slope enters only through the hold)
-    m_in = 6 + n_h
+    m_in = 6 + n_h  # the outputs are not used (`_steps` reads the states): one zero row each
     plant = StateSpace(
         np.block([[zero, eye], [-mk, -mc]]), b, np.zeros((1, 12)), np.zeros((1, m_in)), np.zeros((1, m_in))
     )
