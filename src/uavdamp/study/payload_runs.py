@@ -164,10 +164,16 @@ def isolated_motion(isolator: SixAxisIsolator, time: np.ndarray, mount: MountMot
     slopes = np.diff(u, axis=0) / h
     step = discretise(state_space(isolator), h)
     z = propagate(step, np.concatenate([u[0], slopes[0]]), u[:-1], slopes, lift(step.phi))
-    strokes = (z[:, :6] - u) @ strokes_matrix(isolator).T
-    rates = z[:, 6:].T
+    return _state_motion(isolator, z, u, h)
+
+
+def _state_motion(isolator: SixAxisIsolator, states: np.ndarray, u: np.ndarray, h: float) -> BodyMotion:
+    """The `BodyMotion` of the payload's states (n, 12) (q, q') under the mount coordinates u (n, 6) on a grid of
+    step h s: the accelerations the rates' central differences, the peak |element stroke| along an element axis."""
+    strokes = (states[:, :6] - u) @ strokes_matrix(isolator).T
+    rates = states[:, 6:].T
     accelerations = np.gradient(rates, h, axis=1, edge_order=2)
-    return BodyMotion(z[:, :6].T, rates, accelerations, float(np.abs(strokes).max()))
+    return BodyMotion(states[:, :6].T, rates, accelerations, float(np.abs(strokes).max()))
 
 
 def hysteretic_motions(section, dampings, time: np.ndarray, mount: MountMotion) -> list[BodyMotion]:
@@ -181,13 +187,7 @@ def hysteretic_motions(section, dampings, time: np.ndarray, mount: MountMotion) 
     states, _, _ = wire_rope.integrate(
         found, section.wire_rope.params(), time, u[:, :3].T, u[:, 3:].T, [[float(c)] * n_semi for c in dampings]
     )
-    rows = strokes_matrix(found).T
-    out = []
-    for w in states:
-        peak = float(np.abs((w[:, :6] - u) @ rows).max())
-        rates = w[:, 6:].T
-        out.append(BodyMotion(w[:, :6].T, rates, np.gradient(rates, h, axis=1, edge_order=2), peak))
-    return out
+    return [_state_motion(found, w, u, h) for w in states]
 
 
 def gimbal_series(

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from uavdamp.contract import STANDARD_GRAVITY
 from uavdamp.platform.gimbal import GimbalParams, design
 from uavdamp.platform.imu import ImuParams
-from uavdamp.platform.six_axis import AXES, KINDS
+from uavdamp.platform.six_axis import KINDS
 from uavdamp.platform.wire_rope import WireRope
 from uavdamp.settings import ConfigError, attached, require, setting
 
@@ -88,12 +88,10 @@ class WireRopeSection:
     beta_share: float = setting(default=0.5)  # 1, beta / (beta + gamma)
 
     def params(self) -> WireRope:
+        """The `WireRope` of this section (its checks name payload.wire_rope.<key>)."""
         return WireRope(tuple(self.axes), self.alpha, self.yield_stroke, self.exponent, self.beta_share)
 
     def validate(self, where: str) -> None:
-        names = list(self.axes)
-        ok = 0 < len(names) == len(set(names)) and set(names) <= set(AXES)
-        require(ok, f"{where}.axes", f"must be distinct names of {list(AXES)}, got {names}")
         try:
             self.params()
         except ValueError as error:  # its messages name payload.wire_rope.<key>
