@@ -222,15 +222,25 @@ def with_plugin(workdir: Path) -> Path:
 PIPELINE_FIXTURES = {"quick_run", "multirotor_run"}
 
 
-# the longest runs first, so that pytest-xdist's workers (`--dist loadfile --no-loadscope-reorder`: whole files in
-# this order) start them side by side: the quick run with the profile run that follows it, a second quick run (its
-# own, killed and resumed), the SLURM cluster and the log case; then every other file in its usual order
+# the longest first (a longest-processing-time order), so that pytest-xdist's workers (`--dist loadfile
+# --no-loadscope-reorder`: whole files in this order, the first four two per worker) start the pipelines early and end
+# on short files: the quick run with the profile run and then the log case (on the first worker), beside the SLURM
+# cluster's table and then the second quick run (killed and resumed), which need the quick run only at their end
+# and at their start; then the files of the longest other tests (20-40 s each, measured); then every other file in
+# its usual order
 LONGEST_FIRST = (
     "tests/workflow/test_multirotor.py",
-    "tests/workflow/test_reruns_and_determinism.py::test_a_killed_and_resumed_run",
-    "tests/workflow/test_reruns_and_determinism.py",
     "tests/workflow/test_slurm.py",
     "tests/workflow/test_log_case.py",
+    "tests/workflow/test_reruns_and_determinism.py::test_a_killed_and_resumed_run",
+    "tests/workflow/test_reruns_and_determinism.py",
+    "tests/test_helicopter_flight.py",
+    "tests/workflow/test_pipeline.py",
+    "tests/workflow/test_config_checks.py",
+    "tests/test_payload.py",
+    "tests/test_anfis_training.py",
+    "tests/test_chunks.py",
+    "tests/workflow/test_survivor.py",
 )
 
 
@@ -287,6 +297,22 @@ def copy_run(run: Path, dest: Path) -> Path:
     """A copy of a run folder with its files' times kept (Snakemake plans by them); `dest`."""
     shutil.copytree(run, dest, symlinks=True)
     return dest
+
+
+# the helicopter stage's outputs besides reports-*/helicopter/: its figures (without them Snakemake reruns the jobs
+# that draw them)
+HELICOPTER_FIGURES = ("fuselage_vibration.png", "helicopter_campbell.png", "helicopter_sensitivity.png")
+
+
+def seed_helicopter(run: Path, workdir: Path, output_dir: str) -> None:
+    """The quick run's helicopter stage (outputs and figures, times kept) copied into `workdir/output_dir`, so that a
+    run there whose config leaves the helicopter section as the quick run's reruns none of its jobs (a seeded output
+    whose plan differs is still refused by its consumers, `uavdamp.integrity`, and rebuilt)."""
+    source, dest = run / "reports-quick", workdir / output_dir
+    shutil.copytree(source / "helicopter", dest / "helicopter")
+    (dest / "figures").mkdir(parents=True, exist_ok=True)
+    for name in HELICOPTER_FIGURES:
+        shutil.copy2(source / "figures" / name, dest / "figures" / name)
 
 
 def load_module(path: Path, name: str):

@@ -507,3 +507,16 @@ def test_a_failed_integration_names_the_solver_keys_and_the_time(heli):
     assert re.search(r"did not converge at t = 0\.01\d* s of 0\.05 s", text), text  # at the first NaN step
     for key in ("helicopter.solver.step_s", "helicopter.main_rotor.omega_rad_s"):
         assert key in text
+
+
+def test_a_trimmed_flight_run_repeats_exactly(heli):
+    """The flight run (trim, release, blade-element loads) draws no random number: run twice, the run and the
+    trim are bit for bit the same (what lets the pipeline's determinism test seed the helicopter stage)."""
+    short = replace(heli, solver=replace(heli.solver, duration=0.3, step=0.0025, output_step=0.005))
+    short = replace(short, aerodynamics=replace(short.aerodynamics, n_stations=4))
+    short = replace(short, flight=replace(short.flight, release=0.2))
+    (run_a, trim_a), (run_b, trim_b) = flightdata.run(short, "forward"), flightdata.run(short, "forward")
+    for first, second in ((run_a, run_b), (trim_a, trim_b)):
+        assert set(first.variables) == set(second.variables)
+        for name in first.variables:
+            np.testing.assert_array_equal(first[name].values, second[name].values, err_msg=name)

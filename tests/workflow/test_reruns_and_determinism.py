@@ -1,5 +1,5 @@
-"""Rerun promises for an edit of every config section, and two full quick runs compared file by file (the second
-killed in the reference table and resumed).
+"""Rerun promises for an edit of every config section, and two quick runs compared file by file (the second killed
+in the reference table and resumed; its helicopter stage is the first's, which repeats exactly on its own).
 
 workflow/rules/common.smk promises that a rule's params hold only what the rule uses, with sorted keys, so an
 edit reruns exactly the stages it affects (and those downstream of them) and reordering keys reruns nothing.
@@ -17,11 +17,20 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
-from conftest import QUICK_RUN_ARGS, copy_workflow, quick_run_config, snakemake, snakemake_dry, with_plugin
+from conftest import (
+    QUICK_RUN_ARGS,
+    copy_workflow,
+    quick_run_config,
+    seed_helicopter,
+    snakemake,
+    snakemake_dry,
+    with_plugin,
+)
 from conftest import planned_rules as dry_run_rules
 
 from uavdamp import io
@@ -197,12 +206,12 @@ def _attrs(attrs: dict, workdir) -> dict:
     return {k: v for k, v in out.items() if k not in PROVENANCE}
 
 
-def assert_same_netcdf_files(first, second) -> int:
-    """Every NetCDF under first/reports and second/reports: the same names, values and attributes; their count."""
-    first_files = sorted(p.relative_to(first) for p in (first / "reports-quick").rglob("*.nc"))
+def assert_same_netcdf_files(first, second, skip: str) -> int:
+    """Every NetCDF under second/reports-quick but those under its folder `skip` (seeded: copies) holds the same
+    values and attributes as first's of the same name; the count compared."""
     second_files = sorted(p.relative_to(second) for p in (second / "reports-quick").rglob("*.nc"))
-    assert first_files == second_files
-    for rel in first_files:
+    compared = [rel for rel in second_files if rel.parts[1] != skip]
+    for rel in compared:
         a, b = io.open_dataset(first / rel), io.open_dataset(second / rel)
         assert set(a.variables) == set(b.variables), rel
         for name in a.variables:
@@ -214,15 +223,20 @@ def assert_same_netcdf_files(first, second) -> int:
         assert attrs_a.keys() == attrs_b.keys(), rel
         for key in attrs_a:
             np.testing.assert_array_equal(attrs_a[key], attrs_b[key], err_msg=f"{rel}: attribute {key}")
-    return len(first_files)
+    return len(compared)
+
+
+# the second run's targets: `all` and, of the benchmark, its tuning and the run of the synthetic scenario that draws
+# random numbers (the other scenarios' runs and the gather repeat the same code on inputs already compared)
+SECOND_RUN = ("all", "reports-quick/benchmark/tuned/K10.nc", "reports-quick/benchmark/runs/random_1.nc")
 
 
 def _kill_after_two_chunks_started(workdir) -> list[str]:
-    """`snakemake -j1 all benchmark` on the quick run's config in `workdir`, killed (SIGKILL, the whole process
-    group) once a second reference-table chunk has started; the chunks in the order they started (-j1: one job at
-    a time, so a chunk starts only after the one before has finished)."""
+    """`snakemake -j1 SECOND_RUN` on the quick run's config in `workdir`, killed (SIGKILL, the whole process group)
+    once a second reference-table chunk has started; the chunks in the order they started (-j1: one job at a time,
+    so a chunk starts only after the one before has finished)."""
     proc = subprocess.Popen(
-        [sys.executable, "-m", "snakemake", "-j1", "all", "benchmark", *QUICK_RUN_ARGS],
+        [sys.executable, "-m", "snakemake", "-j1", *SECOND_RUN, *QUICK_RUN_ARGS],
         cwd=workdir,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
@@ -244,22 +258,29 @@ def _kill_after_two_chunks_started(workdir) -> list[str]:
 
 
 @pytest.mark.slow
-def test_a_killed_and_resumed_run_gives_the_quick_runs_netcdf_files(request, tmp_path):
+def test_a_killed_and_resumed_run_gives_the_quick_runs_netcdf_files(quick_run, tmp_path):
     """A second quick run in another folder, killed in the reference table and resumed: the finished chunks are
-    kept, and every NetCDF of the two runs holds the same names, values and attributes (the run is reproducible,
-    and a resume changes nothing). The first run is asked for only at the end, so the two can run side by side
-    under pytest-xdist."""
+    kept, and every NetCDF the second run wrote (`SECOND_RUN`) holds the first's values and attributes (the run is
+    reproducible, and a resume changes nothing). The helicopter stage, which draws no random number, is the quick
+    run's, seeded (its runs repeat exactly: tests/test_helicopter.py and tests/test_helicopter_flight.py); every
+    other stage runs again."""
     # the chunks record their worker count (n_jobs): at -j1 it is the quick config's only if that is one
     assert quick_run_config()["reference_table"]["threads"] == 1
     second = with_plugin(copy_workflow(tmp_path / "second"))
+    seed_helicopter(quick_run, second, "reports-quick")
     started = _kill_after_two_chunks_started(second)
     assert len(started) >= 2, "the run ended or timed out before a second chunk started"
     chunks = second / "reports-quick/reference_table/chunks"
     kept = {name: (chunks / f"{name}.nc").stat().st_mtime_ns for name in started[:-1]}  # finished and recorded
     assert not (second / "reports-quick/reference_table/table.nc").exists()
     assert snakemake(second, "--unlock", *QUICK_RUN_ARGS).returncode == 0  # the kill left a lock
-    result = snakemake(second, "-j2", "all", "benchmark", *QUICK_RUN_ARGS, "--rerun-incomplete")
+    result = snakemake(second, "-j2", *SECOND_RUN, *QUICK_RUN_ARGS, "--rerun-incomplete")
     assert result.returncode == 0, result.stderr[-3000:]
     for name, mtime in kept.items():
         assert (chunks / f"{name}.nc").stat().st_mtime_ns == mtime, f"{name} was recomputed"
-    assert assert_same_netcdf_files(request.getfixturevalue("quick_run"), second) > 10
+    assert not list((second / "reports-quick/logs").glob("helicopter*")), "a seeded helicopter job ran again"
+    first_files = {p.relative_to(quick_run / "reports-quick") for p in (quick_run / "reports-quick").rglob("*.nc")}
+    second_files = {p.relative_to(second / "reports-quick") for p in (second / "reports-quick").rglob("*.nc")}
+    asked = {Path(target).relative_to("reports-quick") for target in SECOND_RUN[1:]}
+    assert {p for p in first_files if p.parts[0] != "benchmark"} | asked <= second_files <= first_files
+    assert assert_same_netcdf_files(quick_run, second, skip="helicopter") > 10
