@@ -157,7 +157,7 @@ def test_a_settled_run_is_the_tables_prediction_for_its_lines(damping, settled):
     body = runs.isolated_motion(runs.six_axis_isolator(section, c), t, MountMotion(u[:3], u[3:]))
     p = runs.gimbal_params(section)
     lever = (0.0, 0.0, runs.gimbal_height(section))
-    series = runs.gimbal_series(p, design(p), t, body, lever, sensor_errors=False, seed=0)
+    (series,) = runs.gimbal_series(p, design(p), t, [body], lever, sensor_errors=False, seed=0)
     keep = t >= 16.0
     simulated = los_std(series.yaw[keep], series.pitch[keep])
     if settled:

@@ -49,7 +49,7 @@ def test_the_criterion_is_the_simulated_gimbal_on_a_stiffer_isolator(dof, amplit
     body = runs.isolated_motion(isolator, t, MountMotion(u[:3], u[3:]))
     p = runs.gimbal_params(section)
     lever = (0.0, 0.0, runs.gimbal_height(section))
-    series = runs.gimbal_series(p, design(p), t, body, lever, sensor_errors=False, seed=1)
+    (series,) = runs.gimbal_series(p, design(p), t, [body], lever, sensor_errors=False, seed=1)
     pitch, yaw = (_amplitude(t, getattr(series, a), 7.0, 2.0) / amplitude for a in ("pitch", "yaw"))
     table = pt.table_dataset(section)
     level = pt.amplitudes(section.table)[dof]

@@ -58,7 +58,7 @@ def test_the_closed_form_is_the_simulated_gimbal_within_one_percent(mount, dof, 
     body = runs.rigid_motion(t, moved) if isolator is None else runs.isolated_motion(isolator, t, moved)
     p = runs.gimbal_params(SECTION)
     lever = (0.0, 0.0, runs.gimbal_height(SECTION))
-    series = runs.gimbal_series(p, design(p), t, body, lever, sensor_errors=False, seed=1)
+    (series,) = runs.gimbal_series(p, design(p), t, [body], lever, sensor_errors=False, seed=1)
     simulated = _amplitude(t, getattr(series, axis), freq_hz, 2.0) / amplitude
     closed = abs(
         tr.line_of_sight(SECTION, mount, "gimbal", np.array([freq_hz]))[("roll", "pitch", "yaw").index(axis), dof, 0]

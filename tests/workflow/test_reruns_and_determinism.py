@@ -197,12 +197,13 @@ PROVENANCE = {"history", "build_time_s", "solver_time_s", "worker_time_s", "wall
 
 
 def _attrs(attrs: dict, workdir) -> dict:
-    """Attributes less PROVENANCE, with the run's folder (in config_files) written as <workdir>, and the core count
-    and the resume's flag left out of the command line (files written before the kill carry -j1, after it -j2 and
-    --rerun-incomplete)."""
+    """Attributes less PROVENANCE, with the run's folder (in config_files) written as <workdir>, and the core count,
+    the resume's flag and the targets left out of the command line (files written before the kill carry -j1, after
+    it -j2 and --rerun-incomplete; the second run asks for `SECOND_RUN`)."""
     out = {k: v.replace(str(workdir), "<workdir>") if isinstance(v, str) else v for k, v in attrs.items()}
-    if "command_line" in out:
+    if "command_line" in out:  # the targets too: the second run asks for fewer
         out["command_line"] = re.sub(r" -j\d+| --rerun-incomplete", "", out["command_line"])
+        out["command_line"] = re.sub(r"(__main__\.py) .*? (--configfile)", r"\1 <targets> \2", out["command_line"])
     return {k: v for k, v in out.items() if k not in PROVENANCE}
 
 

@@ -12,8 +12,6 @@ the integral holding the static imbalance torque, the filters at rest on the fir
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import xarray as xr
 
@@ -27,7 +25,7 @@ from uavdamp.platform.gimbal import (
     design,
     imbalance_torque,
 )
-from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, read_scalar, sample_channel
+from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, sample_channel
 from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
 
 
@@ -104,74 +102,109 @@ def simulate(
     rad s-1 and linear `acceleration` (3, n) m s-2, inertial frame (x forward, y left, z up), on the uniform grid
     `time` (s; the loop period a whole multiple of its step). gains: default `design(p)`; sensor_errors False:
     the IMU without noise, bias and quantisation; rng: the noise's generator (default seed 0)."""
-    rotation, rate, acceleration = (np.asarray(x, dtype=float) for x in (rotation, rate, acceleration))
-    h, m = loop_grid(time, p.period, {"rotation": rotation, "rate": rate, "acceleration": acceleration})
+    rng = np.random.default_rng(0) if rng is None else rng
+    (ds,) = simulate_many(p, time, [(rotation, rate, acceleration)], gains=gains, sensor_errors=sensor_errors,
+                          rngs=[rng])  # fmt: skip
+    return ds
+
+
+def simulate_many(
+    p: GimbalParams,
+    time,
+    bases,
+    *,
+    gains: dict[str, AxisGains] | None = None,
+    sensor_errors: bool = True,
+    rngs,
+) -> list[xr.Dataset]:
+    """`simulate` on each base motion of `bases` ((rotation, rate, acceleration) each (3, n), as `simulate`'s), one
+    generator of `rngs` each, the discrete cascades of all the runs stepped side by side (the same arithmetic per
+    run; what a stage pays per loop sample in Python is paid once for them all)."""
+    bases, rngs = list(bases), list(rngs)
+    if len(bases) != len(rngs) or not bases:
+        raise ValueError(f"need one generator per base motion and at least one, got {len(bases)} and {len(rngs)}")
     gains = design(p) if gains is None else gains
     imu = p.imu if sensor_errors else p.imu.noiseless()
-    rng = np.random.default_rng(0) if rng is None else rng
     n, axes = np.size(time), p.stabilised
+    runs = [_exogenous_runs(p, imu, time, base, rng) for base, rng in zip(bases, rngs, strict=True)]
+    h = runs[0][0]
+    m = round(p.period / h)
     loops = np.arange(0, n, m)
+    out = {k: np.zeros((len(bases), len(axes), n)) for k in ("line_of_sight", "motor_torque", "attitude_estimate")}
+    out["saturated"] = np.zeros((len(bases), len(axes), n), dtype=bool)
+    f_z = np.stack([r[1] for r in runs])
+    for j, axis in enumerate(axes):
+        model = axis_model(p, axis)
+        fine, coarse = _torque_steps(model, h, p.period)
+        base = np.stack([r[2][axis] for r in runs])  # (runs, n, states)
+        hold = -np.array([r[3][axis] for r in runs])
+        held, flags, estimate = _control(p, imu, gains[axis], model, coarse, base[:, loops], f_z, hold)
+        torque = np.repeat(held, m, axis=1)[:, :n]
+        for b in range(len(bases)):
+            z = propagate(fine, np.zeros(model.a.shape[0]), torque[b, :-1, None], np.zeros((n - 1, 1)), lift(fine.phi))
+            out["line_of_sight"][b, j] = (base[b] + z) @ model.c[OUTPUTS.index("angle")]
+        out["motor_torque"][:, j] = torque
+        out["saturated"][:, j] = np.repeat(flags, m, axis=1)[:, :n]
+        out["attitude_estimate"][:, j] = np.repeat(estimate, m, axis=1)[:, :n]
+    t = np.asarray(time, dtype=float)
+    return [_dataset(p, t, axes, {k: v[b] for k, v in out.items()}, m) for b in range(len(bases))]
+
+
+def _exogenous_runs(p: GimbalParams, imu: ImuParams, time, base, rng) -> tuple[float, np.ndarray, dict, dict]:
+    """One run's parts that need no controller: (step h s, the vertical accelerometer's reading at each loop
+    sample, {axis: states (n, ns) driven by the base and the noise}, {axis: the static imbalance torque N m})."""
+    rotation, rate, acceleration = (np.asarray(x, dtype=float) for x in base)
+    h, m = loop_grid(time, p.period, {"rotation": rotation, "rate": rate, "acceleration": acceleration})
+    loops = np.arange(0, np.size(time), m)
     f_z = sample_channel(time, p.gravity + acceleration[2], imu, imu.accel_noise_density, rng)[loops]
     f_z = read(f_z, imu.accel_bias[2], imu.accel_step, imu.accel_range)
-    base, steps, e0 = {}, {}, {}
-    for axis in axes:
+    states, e0 = {}, {}
+    for axis in p.stabilised:
         e = _exogenous(p, axis, rotation, rate, acceleration)
-        base[axis], model = _base_response(p, imu, axis, e, h, rng)
-        steps[axis] = (model, *_torque_steps(model, h, p.period))
+        states[axis], _ = _base_response(p, imu, axis, e, h, rng)
         e0[axis] = e[2, 0]
-    out = {k: np.zeros((len(axes), n)) for k in ("line_of_sight", "motor_torque", "attitude_estimate", "saturated")}
-    for j, axis in enumerate(axes):
-        model, fine, coarse = steps[axis]
-        held, flags, estimate = _control(p, imu, gains[axis], model, coarse, base[axis][loops], f_z, -e0[axis])
-        torque = np.repeat(held, m)[:n]
-        z = propagate(fine, np.zeros(model.a.shape[0]), torque[:-1, None], np.zeros((n - 1, 1)), lift(fine.phi))
-        out["line_of_sight"][j] = (base[axis] + z) @ model.c[OUTPUTS.index("angle")]
-        out["motor_torque"][j] = torque
-        out["saturated"][j] = np.repeat(flags, m)[:n]
-        out["attitude_estimate"][j] = np.repeat(estimate, m)[:n]
-    return _dataset(p, np.asarray(time, dtype=float), axes, out, m)
+    return h, f_z, states, e0
 
 
-def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarray, f_z: np.ndarray, hold: float):
-    """The discrete cascade on one axis: (torque applied over each loop period, its saturation flag, estimate)."""
-    axis, k_count = g.axis, base_loop.shape[0]
+def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarray, f_z: np.ndarray, hold):
+    """The discrete cascade on one axis of each run, the runs side by side: base_loop (runs, K, states) at the loop
+    samples, f_z (runs, K), hold (runs,) N m. Returns (torque applied over each loop period, its saturation flag,
+    the estimate), each (runs, K)."""
+    axis, (n_runs, k_count, _) = g.axis, base_loop.shape
     i = AXES.index(axis)
     c_gyro, c_force = model.c[OUTPUTS.index("gyro")], model.c[OUTPUTS.index("specific_force")]
-    limit, period = p.torque_limit, p.period
-    held, flags, est_out = np.empty(k_count), np.zeros(k_count, dtype=bool), np.empty(k_count)
-    z, integral, estimate, applied = np.zeros(model.a.shape[0]), hold, 0.0, hold
-    lateral = LATERAL[axis]
+    limit, period, lateral = p.torque_limit, p.period, LATERAL[axis]
+    held, flags, est_out = np.empty((k_count, n_runs)), np.zeros((k_count, n_runs), bool), np.empty((k_count, n_runs))
+    z, integral, estimate = np.zeros((n_runs, model.a.shape[0])), np.array(hold, float), np.zeros(n_runs)
+    applied, tilt = integral.copy(), np.zeros(n_runs)
+    phi_t, gamma = coarse.phi.T, coarse.gamma_u[:, 0]
+    f_z = np.asarray(f_z, dtype=float).T
+    base_loop = np.swapaxes(base_loop, 0, 1)  # (K, runs, states): one sample's rows contiguous
     for k in range(k_count):
         held[k] = applied
         state = base_loop[k] + z
-        gyro = read_scalar(state @ c_gyro, imu.gyro_bias[i], imu.gyro_step, imu.gyro_range)
-        if axis == "yaw":
-            tilt = 0.0
-        else:
-            f_lat = read_scalar(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
-            tilt = math.atan2(f_lat, f_z[k]) if axis == "roll" else math.atan2(-f_lat, f_z[k])
-        estimate, integral, applied, saturated = cascade_step(g, estimate, integral, float(gyro), tilt, limit, period)
-        flags[k] = saturated  # applied: from the next sample on (computation delay)
-        est_out[k] = estimate
-        z = coarse.phi @ z + coarse.gamma_u[:, 0] * held[k]
+        gyro = read(state @ c_gyro, imu.gyro_bias[i], imu.gyro_step, imu.gyro_range)
+        if axis != "yaw":
+            f_lat = read(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
+            tilt = np.arctan2(f_lat, f_z[k]) if axis == "roll" else np.arctan2(-f_lat, f_z[k])
+        estimate, integral, applied, flags[k] = cascade_step(g, estimate, integral, gyro, tilt, limit, period)
+        est_out[k] = estimate  # applied: from the next sample on (computation delay)
+        z = z @ phi_t + np.outer(held[k], gamma)
     # the flag belongs to the period its torque acts in: the demand computed at k acts over period k + 1
-    return held, np.concatenate([[False], flags[:-1]]), est_out
+    flags = np.concatenate([np.zeros((1, n_runs), bool), flags[:-1]])
+    return held.T, flags.T, est_out.T
 
 
-def cascade_step(
-    g: AxisGains, estimate: float, integral: float, gyro: float, tilt: float, limit: float, period: float
-) -> tuple[float, float, float, bool]:
-    """One loop sample of an axis's cascade from its readings (gyro rad s-1, accelerometer tilt rad): the
-    estimate updated, the attitude P and the rate PI, the integral held while the demand saturates; returns
-    (estimate rad, integral N m, the demand clipped to +/- limit N m, saturated). Period s."""
+def cascade_step(g: AxisGains, estimate, integral, gyro, tilt, limit: float, period: float):
+    """One loop sample of an axis's cascade from its readings (gyro rad s-1, accelerometer tilt rad; floats, or
+    arrays of runs side by side): the estimate updated, the attitude P and the rate PI, the integral held while the
+    demand saturates; returns (estimate rad, integral N m, the demand clipped to +/- limit N m, saturated). Period s."""
     estimate = g.estimator.update(estimate, gyro, tilt)
     error = -g.ka * estimate - gyro
     candidate = integral + g.ki * period * error
     demand = g.kp * error + candidate
-    saturated = abs(demand) > limit
-    if not saturated:
-        integral = candidate
-    return estimate, integral, min(max(demand, -limit), limit), saturated
+    saturated = np.abs(demand) > limit
+    return estimate, np.where(saturated, integral, candidate), np.minimum(np.maximum(demand, -limit), limit), saturated
 
 
 VARIABLES = {  # name: (units, long_name) of a run's outputs (the Exudyn check's too)

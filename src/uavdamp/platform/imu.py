@@ -107,7 +107,8 @@ def quantise(x: np.ndarray, step: float, full_scale: float) -> np.ndarray:
     """x rounded to the converter's step and clipped to +/- full_scale (step 0: x unchanged)."""
     if step == 0:
         return np.asarray(x, dtype=float)
-    return np.clip(step * np.round(np.asarray(x, dtype=float) / step), -full_scale, full_scale)
+    # rint: round half to even, as numpy.round; minimum / maximum: numpy.clip's values at half its call's cost
+    return np.minimum(np.maximum(step * np.rint(np.asarray(x, dtype=float) / step), -full_scale), full_scale)
 
 
 def read(filtered: np.ndarray, bias: np.ndarray, step: float, full_scale: float) -> np.ndarray:

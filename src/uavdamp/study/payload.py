@@ -202,41 +202,50 @@ def _input(time, mount: MountMotion, section: PayloadSection) -> tuple[np.ndarra
     return grid[:n], MountMotion(moved.translation[:, :n], moved.rotation[:, :n])
 
 
-def _series(setup: _Setup, t: np.ndarray, moved: MountMotion, payload: str, mount: str, c: float) -> runs.Series:
-    """One run: `payload` on `mount` at C (N s m-1) under the gridded input (t s, moved)."""
+def _bodies(setup: _Setup, t: np.ndarray, moved: MountMotion, mount: str, dampings) -> list[runs.BodyMotion]:
+    """The gimbal's body on `mount` at each C of `dampings` (N s m-1; the rigid mount's one body whatever the C)
+    under the gridded input (t s, moved); the wire rope's candidates integrated side by side."""
     s = setup.section
-    if payload in HEADS:
-        return runs.head_series(setup.plants[payload], mount, t, moved, s.yz_stiffness, c)
+    if mount == "rigid":
+        return [runs.rigid_motion(t, moved)]
     if mount == "wire_rope":
-        return _gimbal(setup, t, runs.hysteretic_motions(s, [c], t, moved)[0])
-    found = isolator(s, mount, c)
-    return _gimbal(setup, t, runs.rigid_motion(t, moved) if found is None else runs.isolated_motion(found, t, moved))
+        return runs.hysteretic_motions(s, list(dampings), t, moved)
+    return [runs.isolated_motion(isolator(s, mount, c), t, moved) for c in dampings]
 
 
-def _gimbal(setup: _Setup, t: np.ndarray, body: runs.BodyMotion) -> runs.Series:
-    """The gimbal on `body` (`payload_runs.gimbal_series` with the section's sensor errors and seed)."""
+def _gimbal(setup: _Setup, t: np.ndarray, bodies: list[runs.BodyMotion]) -> list[runs.Series]:
+    """The gimbal on each of `bodies`, side by side (`payload_runs.gimbal_series` with the section's sensor errors
+    and seed)."""
     s = setup.section
     errors = s.gimbal.sensor_errors
-    return runs.gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
+    return runs.gimbal_series(setup.gimbal, setup.gains, t, bodies, setup.lever, sensor_errors=errors, seed=s.seed)
 
 
 def _values(setup: _Setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
     """Every metric of `payload_runs.METRICS` over (payload, mount, damping) under the gridded input (`_input`);
-    NaN where not modelled, the rigid mount's value at every C."""
+    NaN where not modelled, the rigid mount's value at every C. The gimbal's runs of every mount and C side by side."""
     s = setup.section
     values = {name: np.full((len(s.payloads), len(s.mounts), len(s.damping)), math.nan) for name in runs.METRICS}
+    cells, bodies = [], []  # (payload index, mount index, damping index), and the gimbal's bodies in that order
     for (i, payload), (j, where) in ((a, b) for a in enumerate(s.payloads) for b in enumerate(s.mounts)):
         if not modelled(payload, where):
             continue
-        if where == "wire_rope":  # every candidate's hysteretic isolator integrated side by side
-            bodies = runs.hysteretic_motions(s, s.damping, t, moved)
-            found = [(k, _gimbal(setup, t, body)) for k, body in enumerate(bodies)]
+        candidates = _candidates(s, where)
+        if payload in HEADS:
+            for k, c in candidates:
+                series = runs.head_series(setup.plants[payload], where, t, moved, s.yz_stiffness, c)
+                _store(values, (i, j, k), runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s))
         else:
-            found = [(k, _series(setup, t, moved, payload, where, c)) for k, c in _candidates(s, where)]
-        for k, series in found:
-            for name, value in runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s).items():
-                values[name][i, j, k] = value
+            cells += [(i, j, k) for k, _ in candidates]
+            bodies += _bodies(setup, t, moved, where, [c for _, c in candidates])
+    for cell, series in zip(cells, _gimbal(setup, t, bodies) if bodies else [], strict=True):
+        _store(values, cell, runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s))
     return values
+
+
+def _store(values: dict[str, np.ndarray], cell: tuple, metrics: dict[str, float]) -> None:
+    for name, value in metrics.items():
+        values[name][cell] = value
 
 
 def _candidates(section: PayloadSection, mount: str) -> list:
@@ -251,7 +260,7 @@ def _floor(setup: _Setup) -> np.ndarray:
     if "gimbal" in s.payloads:
         t = np.arange(int(round(s.duration_s / s.time_step_s)) + 1) * s.time_step_s
         still = MountMotion(np.zeros((3, t.size)), np.zeros((3, t.size)))
-        series = _series(setup, t, still, "gimbal", "rigid", math.nan)
+        (series,) = _gimbal(setup, t, _bodies(setup, t, still, "rigid", [math.nan]))
         out[s.payloads.index("gimbal")] = runs.run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)["los_std"]
     return out
 

@@ -97,21 +97,24 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
     payload_schedule`) when the setup has a payload table, its decisions as ``schedule`` (a `Schedule`); {}
     without laws. `setup`: the payload comparison's."""
     s = setup.section
-    c_off, rows = s.c_off, []
-    errors = s.gimbal.sensor_errors
+    c_off, bodies, rows = s.c_off, [], []
     for c_on in law_c_on(s):
         body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off, s.skyhook_lag)
-        series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
-        metrics = run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)
-        rows.append(metrics | {"on_fraction": on, "c_on": c_on, "damping_mean": math.nan, "name": f"skyhook_{c_on:g}"})
+        bodies.append(body)
+        rows.append({"on_fraction": on, "c_on": c_on, "damping_mean": math.nan, "name": f"skyhook_{c_on:g}"})
     plan = None
     if law_c_on(s) and setup.table is not None:
         plan = schedule(t, moved, setup.table, s.schedule)
-        body = body_motion(scheduled_run(six_axis_isolator(s, c_off), t, moved, plan.per_sample), t[1] - t[0])
-        series = gimbal_series(setup.gimbal, setup.gains, t, body, setup.lever, sensor_errors=errors, seed=s.seed)
-        metrics = run_metrics(t, series, setup.camera, s.settle_s, s.duration_s)
+        bodies.append(body_motion(scheduled_run(six_axis_isolator(s, c_off), t, moved, plan.per_sample), t[1] - t[0]))
         mean = float(np.mean(plan.per_sample[window_mask(t, s.settle_s, s.duration_s)]))
-        rows.append(metrics | {"on_fraction": math.nan, "c_on": math.nan, "damping_mean": mean, "name": "scheduled"})
+        rows.append({"on_fraction": math.nan, "c_on": math.nan, "damping_mean": mean, "name": "scheduled"})
+    if bodies:  # the gimbal on every law's body, side by side
+        errors = s.gimbal.sensor_errors
+        found = gimbal_series(setup.gimbal, setup.gains, t, bodies, setup.lever, sensor_errors=errors, seed=s.seed)
+        rows = [
+            run_metrics(t, series, setup.camera, s.settle_s, s.duration_s) | row
+            for series, row in zip(found, rows, strict=True)
+        ]
     out = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
     return out | ({"schedule": plan} if plan is not None else {})
 

@@ -3,16 +3,16 @@
 A run gives the camera's line of sight (roll, pitch, yaw, rad, inertial) and the translation (y, z, m, from its
 start) of its optical centre; `run_metrics` turns them into the comparison's numbers. The mounts' bodies
 (`BodyMotion`): the rigid mount is the mount motion itself (its rates and accelerations by second-order finite
-differences of the samples: nothing better is known of a sampled input); an isolated mount is the six-axis
-model's exact solution for a first-order-hold input (`isolated_motion`: the same step map and start as
-`uavdamp.platform.six_axis_run.run`, its rates the state's, its accelerations their central differences). The
-gimbal (`gimbal_series`) stands on that body at the point `lever` (m, from the mount's reference point) and is run
-by `uavdamp.platform.gimbal_sim.simulate` with one-way coupling (the motors' reaction torque on the body is left
-out); an axis it does not stabilise follows the body. The pan-tilt heads (`head_series`) run on the platform's own
-plants (`uavdamp.platform.plants`); their roll is the mount's rotation about x (assumption, first order: the head
-has no roll joint and the paper's isolator is rigid in rotation). The gimbal's body and isolators are built here
-from the section (`gimbal_payload`, `six_axis_isolator`, `yz_isolator`; `uavdamp.study.payload` re-exports them).
-An input reaches the runs' grid band-limited (`resampled`).
+differences of the samples: nothing better is known of a sampled input); an isolated mount is the six-axis model's
+exact solution for a first-order-hold input (`isolated_motion`: the same step map and start as
+`uavdamp.platform.six_axis_run.run`, its rates the state's, its accelerations their central differences). The gimbal
+(`gimbal_series`) stands on that body at the point `lever` (m, from the mount's reference point) and is run by
+`uavdamp.platform.gimbal_sim.simulate_many` (the runs of an input side by side) with one-way coupling (the motors'
+reaction torque on the body is left out); an axis it does not stabilise follows the body. The pan-tilt heads
+(`head_series`) run on the platform's own plants (`uavdamp.platform.plants`); their roll is the mount's rotation
+about x (assumption, first order: the head has no roll joint and the paper's isolator is rigid in rotation). The
+gimbal's body and isolators are built here from the section (`gimbal_payload`, `six_axis_isolator`, `yz_isolator`;
+`uavdamp.study.payload` re-exports them). An input reaches the runs' grid band-limited (`resampled`).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Constant
 from uavdamp.platform import wire_rope
 from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia
-from uavdamp.platform.gimbal_sim import simulate
+from uavdamp.platform.gimbal_sim import simulate_many
 from uavdamp.platform.six_axis import (
     Payload,
     SixAxisIsolator,
@@ -194,27 +194,30 @@ def gimbal_series(
     p: GimbalParams,
     gains: dict[str, AxisGains],
     time: np.ndarray,
-    body: BodyMotion,
+    bodies: list[BodyMotion],
     lever,
     *,
     sensor_errors: bool,
     seed: int,
-) -> Series:
-    """The gimbal at `lever` (m, from the body's reference point) on `body`: its base rotation, rate and the
-    point's acceleration (linear kinematics, T(lever) q'') into `simulate`, a fresh Generator of `seed` per run
-    (common random numbers). The optical centre at the gimbal's axes: translation T(lever) q from its start."""
+) -> list[Series]:
+    """The gimbal at `lever` (m, from the body's reference point) on each of `bodies`: its base rotation, rate and
+    the point's acceleration (linear kinematics, T(lever) q'') into `simulate_many` (the runs side by side), a fresh
+    Generator of `seed` per run (common random numbers). The optical centre at the gimbal's axes: translation
+    T(lever) q from its start."""
     t_point = transform(lever)
-    acceleration = t_point @ body.accelerations
-    rotation, rate = body.coordinates[3:], body.rates[3:]
-    rng = np.random.default_rng(seed)
-    ds = simulate(p, time, rotation, rate, acceleration, gains=gains, sensor_errors=sensor_errors, rng=rng)
-    angles = rotation.copy()
-    for axis in ds.axis.values:
-        angles[AXES.index(str(axis))] = ds.line_of_sight.sel(axis=axis).values
-    translation = t_point @ body.coordinates
-    translation = translation - translation[:, :1]
-    saturated = ds.torque_saturated.values.astype(float)
-    return Series(angles[0], angles[1], angles[2], translation[1], translation[2], saturated, body.peak_stroke)
+    bases = [(body.coordinates[3:], body.rates[3:], t_point @ body.accelerations) for body in bodies]
+    rngs = [np.random.default_rng(seed) for _ in bodies]
+    runs = simulate_many(p, time, bases, gains=gains, sensor_errors=sensor_errors, rngs=rngs)
+    out = []
+    for body, ds in zip(bodies, runs, strict=True):
+        angles = body.coordinates[3:].copy()
+        for axis in ds.axis.values:
+            angles[AXES.index(str(axis))] = ds.line_of_sight.sel(axis=axis).values
+        translation = t_point @ body.coordinates
+        translation = translation - translation[:, :1]
+        saturated = ds.torque_saturated.values.astype(float)
+        out.append(Series(angles[0], angles[1], angles[2], translation[1], translation[2], saturated, body.peak_stroke))
+    return out
 
 
 def head_series(plants, mount_kind: str, time: np.ndarray, mount: MountMotion, stiffness: float, damping: float):
