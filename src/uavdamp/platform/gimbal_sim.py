@@ -139,9 +139,9 @@ def simulate_many(
         base = np.stack([r[2][axis] for r in runs])  # (runs, n, states)
         hold = -np.array([r[3][axis] for r in runs])
         held, flags, estimate = _control(p, imu, gains[axis], model, coarse, base[:, loops], f_z, hold)
-        torque = np.repeat(held, m, axis=1)[:, :n]
+        torque, lifted = np.repeat(held, m, axis=1)[:, :n], lift(fine.phi)
         for b in range(len(bases)):
-            z = propagate(fine, np.zeros(model.a.shape[0]), torque[b, :-1, None], np.zeros((n - 1, 1)), lift(fine.phi))
+            z = propagate(fine, np.zeros(model.a.shape[0]), torque[b, :-1, None], np.zeros((n - 1, 1)), lifted)
             out["line_of_sight"][b, j] = (base[b] + z) @ model.c[OUTPUTS.index("angle")]
         out["motor_torque"][:, j] = torque
         out["saturated"][:, j] = np.repeat(flags, m, axis=1)[:, :n]

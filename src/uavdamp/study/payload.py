@@ -244,6 +244,7 @@ def _values(setup: _Setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.nd
 
 
 def _store(values: dict[str, np.ndarray], cell: tuple, metrics: dict[str, float]) -> None:
+    """Each metric of one run into its array at `cell` (payload, mount, damping index)."""
     for name, value in metrics.items():
         values[name][cell] = value
 
