@@ -12,6 +12,8 @@ the integral holding the static imbalance torque, the filters at rest on the fir
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import xarray as xr
 
@@ -126,18 +128,17 @@ def simulate_many(
     gains = design(p) if gains is None else gains
     imu = p.imu if sensor_errors else p.imu.noiseless()
     n, axes = np.size(time), p.stabilised
-    runs = [_exogenous_runs(p, imu, time, base, rng) for base, rng in zip(bases, rngs, strict=True)]
-    h = runs[0][0]
-    m = round(p.period / h)
+    runs = [_exogenous_run(p, imu, time, base, rng) for base, rng in zip(bases, rngs, strict=True)]
+    h, m = runs[0].h, runs[0].per_loop
     loops = np.arange(0, n, m)
     out = {k: np.zeros((len(bases), len(axes), n)) for k in ("line_of_sight", "motor_torque", "attitude_estimate")}
     out["saturated"] = np.zeros((len(bases), len(axes), n), dtype=bool)
-    f_z = np.stack([r[1] for r in runs])
+    f_z = np.stack([r.f_z for r in runs])
     for j, axis in enumerate(axes):
         model = axis_model(p, axis)
         fine, coarse = _torque_steps(model, h, p.period)
-        base = np.stack([r[2][axis] for r in runs])  # (runs, n, states)
-        hold = -np.array([r[3][axis] for r in runs])
+        base = np.stack([r.states[axis] for r in runs])  # (runs, n, states)
+        hold = -np.array([r.static_torque[axis] for r in runs])
         held, flags, estimate = _control(p, imu, gains[axis], model, coarse, base[:, loops], f_z, hold)
         torque, lifted = np.repeat(held, m, axis=1)[:, :n], lift(fine.phi)
         for b in range(len(bases)):
@@ -150,9 +151,18 @@ def simulate_many(
     return [_dataset(p, t, axes, {k: v[b] for k, v in out.items()}, m) for b in range(len(bases))]
 
 
-def _exogenous_runs(p: GimbalParams, imu: ImuParams, time, base, rng) -> tuple[float, np.ndarray, dict, dict]:
-    """One run's parts that need no controller: (step h s, the vertical accelerometer's reading at each loop
-    sample, {axis: states (n, ns) driven by the base and the noise}, {axis: the static imbalance torque N m})."""
+class _Exogenous(NamedTuple):
+    """One run's parts that need no controller."""
+
+    h: float  # s, the grid's step
+    per_loop: int  # grid steps per loop period
+    f_z: np.ndarray  # m s-2, the vertical accelerometer's reading at each loop sample
+    states: dict  # {axis: states (n, ns) driven by the base and the noise}
+    static_torque: dict  # {axis: the imbalance torque at the start, N m}
+
+
+def _exogenous_run(p: GimbalParams, imu: ImuParams, time, base, rng) -> _Exogenous:
+    """`_Exogenous` of one run on `base` ((rotation, rate, acceleration), as `simulate`'s), noise from `rng`."""
     rotation, rate, acceleration = (np.asarray(x, dtype=float) for x in base)
     h, m = loop_grid(time, p.period, {"rotation": rotation, "rate": rate, "acceleration": acceleration})
     loops = np.arange(0, np.size(time), m)
@@ -163,7 +173,7 @@ def _exogenous_runs(p: GimbalParams, imu: ImuParams, time, base, rng) -> tuple[f
         e = _exogenous(p, axis, rotation, rate, acceleration)
         states[axis], _ = _base_response(p, imu, axis, e, h, rng)
         e0[axis] = e[2, 0]
-    return h, f_z, states, e0
+    return _Exogenous(h, m, f_z, states, e0)
 
 
 def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarray, f_z: np.ndarray, hold):
