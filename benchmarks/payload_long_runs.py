@@ -9,8 +9,8 @@ DIR, default reports/helicopter/runs of a run of `all`, as the excitation stage 
 ``payload.sources``, for `--duration` s scored from `--settle` s (the stage: 5 s from 1 s), at the constant damping
 candidates, under skyhook and under the scheduled law with the config's payload table: line-of-sight rms and
 detrended rms (µrad) per input as a Markdown table, the 5 s run's beside it, and the gimbal's rms on a still mount
-over the same window (its sensor-noise floor). `--mount wire_rope` prints the constant C on the wire-rope isolator
-instead (the laws' columns stay the six-axis isolator's). A case rebuilt over the longer record is scaled on it
+over the same window (its sensor-noise floor). `--mount wire_rope` prints the constant C and the laws on the
+wire-rope isolator instead. A case rebuilt over the longer record is scaled on it
 (its dominant line read over the whole record): its scale per axis is printed beside the stage's 5 s case's
 (`--cases`).
 """
@@ -45,10 +45,10 @@ def cases(config: dict, duration: float, runs_dir: str):
 
 
 def row(section, platform, camera, table, t, moved, mount: str = "six_axis") -> list[str]:
-    """The cells of one input, rms / detrended (µrad): each constant C on `mount`, the best skyhook (by rms) and
-    the scheduled law (its mean C) on the six-axis isolator."""
-    ds = payload.compare_payloads(t, moved, section, platform, camera, table)
-    own = ds.sel(payload="gimbal", mount=mount)
+    """The cells of one input, rms / detrended (µrad): each constant C, the best skyhook (by rms) and the scheduled
+    law (its mean C), all on `mount`."""
+    ds = payload.compare_payloads(t, moved, section, platform, camera, table).sel(mount=mount)
+    own = ds.sel(payload="gimbal")
     cells = [
         f"{a * URAD:.0f} / {b * URAD:.0f}"
         for a, b in zip(own.los_std.values, own.los_detrended_std.values, strict=True)

@@ -8,8 +8,9 @@ slowest decay time it allows).
 
 Reads the merged config files (default config/config.yaml) and the study's cases written by a run of `all`; for
 each variant prints the gimbal's line-of-sight rms (µrad) per input on the rigid mount and on each isolator at its
-best constant damping (and that C), under on-off skyhook on the six-axis isolator at its best c_on, and under the
-scheduled law (its mean C over the settled window) with the variant's own payload table, as a Markdown table.
+best constant damping (and that C), and on each six-axis isolator (rubber-ball, wire rope) under on-off skyhook at
+its best c_on and under the scheduled law (its mean C over the settled window) with the variant's own payload
+table, as a Markdown table.
 The numbers in docs/stages/payload.md come from it.
 """
 
@@ -127,8 +128,9 @@ def main() -> None:
     cases = io.open_dataset(args.cases)
     found = payload.inputs(cases, sources, base)
     mounts = [m for m in base.mounts if m != "rigid"]
-    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts], "six_axis skyhook (best c_on)"]
-    head += ["six_axis scheduled (mean C)", "s"]
+    law_mounts = [m for m in mounts if m in payload.SIX_AXIS_MOUNTS]
+    head = ["variant", "input", "rigid", *[f"{m} (best C)" for m in mounts]]
+    head += [f"{m} {law}" for m in law_mounts for law in ("skyhook (best c_on)", "scheduled (mean C)")] + ["s"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
     chosen = variants(base, args.rest)
     if args.only:
@@ -144,13 +146,13 @@ def main() -> None:
             for m in mounts:
                 best = float(ds.best_damping.sel(input=i, payload="gimbal", mount=m))
                 cells.append(f"{float(los.sel(mount=m, damping=best)):.0f} ({best:g})")
-            if "law_los_std" in ds:
+            for m in law_mounts if "law_los_std" in ds else ():
                 sky = ds.law.str.startswith("skyhook").values
-                law = ds.law_los_std.sel(input=i).values[sky] * URAD
+                law = ds.law_los_std.sel(input=i, mount=m).values[sky] * URAD
                 c_on = ds.law_c_on.sel(input=i).values[sky]
                 best = int(np.argmin(law))
                 cells.append(f"{law[best]:.0f} ({c_on[best]:g})")
-                scheduled = ds.sel(input=i, law="scheduled")
+                scheduled = ds.sel(input=i, law="scheduled", mount=m)
                 cells.append(f"{float(scheduled.law_los_std) * URAD:.0f} ({float(scheduled.law_damping_mean):.2g})")
             print(f"| {name} | {i} | " + " | ".join(cells) + f" | {took:.0f} |")
 

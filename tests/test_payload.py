@@ -332,10 +332,20 @@ def test_the_wire_rope_mount_is_the_six_axis_isolator_without_hysteresis_and_dif
     """alpha = 1 (no hysteretic force) gives the six-axis mount's numbers: the stage runs the wire rope on the same
     elements, damping and gimbal (the two integrations agree to rounding, 1e-12 of the line of sight: tests/
     test_wire_rope.py; 1e-9 here leaves room for the IMU's quantisation to round a sample the other way); at
-    alpha = 0.3 and a 0.2 mm yield stroke, below the strokes, the light damper's line of sight moves by over 5 %."""
+    alpha = 0.3 and a 0.2 mm yield stroke, below the strokes, the light damper's line of sight moves by over 5 %, and
+    so does skyhook's. The same holds for the laws: at alpha = 1 the wire rope's skyhook cells are the six-axis
+    isolator's (the same decisions, element-step by element-step)."""
     same = _wire_rope_runs(1.0, 1e-3)
     for name in ("los_std", "peak_stroke", "mtf_nyquist", "los_detrended_std"):
         v = same[name].sel(payload="gimbal")
         np.testing.assert_allclose(v.sel(mount="wire_rope"), v.sel(mount="six_axis"), rtol=1e-9, err_msg=name)
-    moved = _wire_rope_runs(0.3, 2e-4).los_std.sel(payload="gimbal", damping=3.0)
-    assert abs(float(moved.sel(mount="wire_rope") / moved.sel(mount="six_axis")) - 1) > 0.05
+        law = same[f"law_{name}"]  # skyhook_30 on each mount (c_off 3)
+        np.testing.assert_allclose(law.sel(mount="wire_rope"), law.sel(mount="six_axis"), rtol=1e-9, err_msg=name)
+    on = same.law_on_fraction
+    np.testing.assert_array_equal(on.sel(mount="wire_rope"), on.sel(mount="six_axis"))
+    assert 0.2 < on.sel(mount="six_axis").item() < 0.8  # the law switches
+    moved = _wire_rope_runs(0.3, 2e-4)
+    constant = moved.los_std.sel(payload="gimbal", damping=3.0)
+    assert abs(float(constant.sel(mount="wire_rope") / constant.sel(mount="six_axis")) - 1) > 0.05
+    law = moved.law_los_std.sel(law="skyhook_30")
+    assert abs(float(law.sel(mount="wire_rope") / law.sel(mount="six_axis")) - 1) > 0.05

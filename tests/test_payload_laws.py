@@ -84,14 +84,14 @@ def test_the_law_runs_are_named_by_their_on_damping_above_the_least_candidate():
 
 
 class _Step:
-    """A law whose demand steps from 1 to 31 N s/m at the 10th call (each element alike)."""
+    """A law whose demand steps from 1 to 31 N s/m at the 11th sample (each element alike)."""
 
     def __init__(self):
         self.calls = 0
 
-    def decide(self, v_abs, v_rel) -> float:
+    def decide_rows(self, v_abs, v_rel) -> np.ndarray:
         self.calls += 1
-        return 1.0 if self.calls <= 10 * 4 else 31.0  # four elements a sample
+        return np.full(len(v_abs), 1.0 if self.calls <= 10 else 31.0)
 
 
 @pytest.mark.parametrize("lag_s", [0.0, 2e-3, 2e-2])
@@ -128,3 +128,14 @@ def test_the_skyhook_runs_off_damping_is_a_key_and_their_c_on_lie_above_it():
     assert laws.law_names(_section(skyhook_c_off_n_s_m=0.3)) == [f"skyhook_{c:g}" for c in (1, 3, 10, 30, 100)]
     with pytest.raises(ConfigError, match="payload.skyhook_c_off_n_s_m"):
         _section(skyhook_c_off_n_s_m=100.0)
+
+
+def test_skyhooks_rows_are_its_decision_per_damper():
+    """`Skyhook.decide_rows` is `decide` of each row (200 random velocity pairs in 3-D, and exact ties: c_off)."""
+    rng = np.random.default_rng(7)
+    v_abs, v_rel = rng.normal(size=(200, 3)), rng.normal(size=(200, 3))
+    v_rel[:5] = 0.0  # ties
+    law = Skyhook(30.0, 1.0, 1e-3)
+    expected = [law.decide(a, r) for a, r in zip(v_abs, v_rel, strict=True)]
+    np.testing.assert_array_equal(law.decide_rows(v_abs, v_rel), expected)
+    assert 50 < np.sum(np.asarray(expected) == 30.0) < 150

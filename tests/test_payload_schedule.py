@@ -112,14 +112,15 @@ def test_a_schedule_that_cannot_work_names_its_key():
 
 def test_a_law_left_one_damping_is_the_constant_run_at_it():
     """max_decay_time_s set so that one table damping (the least that settles within 0.5 s) is eligible and the
-    initial C that one: the scheduled run's metrics are the constant-damping run's at that C to rounding, and the
-    decisions are recorded per update (the C, the lines it tracked)."""
+    initial C that one: the scheduled run's metrics are the constant-damping run's at that C to rounding on each
+    mount it runs on (the wire rope's schedule through `wire_rope.integrate_scheduled`, its constant run through
+    `wire_rope.integrate`), and the decisions are recorded per update (the C, the lines it tracked)."""
     table = pt.table_dataset(_section(table={"stiffness_n_m": {"values": [500.0]}}))
     decay = table.decay_time.sel(stiffness=500.0).values
     c = float(table.damping.values[decay <= 0.5].min())
     section = _section(
         payloads=["gimbal"],
-        mounts=["six_axis"],
+        mounts=["six_axis", "wire_rope"],
         damping_n_s_m=[1.0, c],
         duration_s=2.0,
         schedule={"initial_damping_n_s_m": c, "max_decay_time_s": float(decay[table.damping.values == c][0])},
@@ -129,8 +130,9 @@ def test_a_law_left_one_damping_is_the_constant_run_at_it():
     u[0], u[4] = 1e-3 * np.sin(2 * np.pi * 7.0 * t), 5e-4 * np.sin(2 * np.pi * 9.0 * t)
     ds = compare_payloads(t, MountMotion(u[:3], u[3:]), section, PLATFORM, CAMERA, table)
     assert list(ds.law.values) == ["skyhook_" + f"{c:g}", "scheduled"]
-    constant = ds.los_std.sel(payload="gimbal", mount="six_axis", damping=c)
-    assert float(ds.law_los_std.sel(law="scheduled")) == pytest.approx(float(constant), rel=1e-9)
+    for mount in ("six_axis", "wire_rope"):
+        constant = ds.los_std.sel(payload="gimbal", mount=mount, damping=c)
+        assert float(ds.law_los_std.sel(law="scheduled", mount=mount)) == pytest.approx(float(constant), rel=1e-9)
     assert float(ds.law_damping_mean.sel(law="scheduled")) == pytest.approx(c, rel=1e-12)
     np.testing.assert_array_equal(ds.scheduled_damping.values, c)
     assert ds.scheduled_line_freq.sel(dof="x").values[-1] == pytest.approx(7.0, abs=0.02)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from uavdamp.platform import wire_rope
 from uavdamp.platform.bouc_wen import hysteresis
 from uavdamp.platform.six_axis import (
     Payload,
@@ -21,7 +22,14 @@ from uavdamp.platform.six_axis import (
     strokes_matrix,
 )
 from uavdamp.platform.six_axis_run import run as linear_run
-from uavdamp.platform.wire_rope import WireRope, integrate, post_yield, run, sine_transmissibility
+from uavdamp.platform.wire_rope import (
+    WireRope,
+    integrate,
+    integrate_scheduled,
+    post_yield,
+    run,
+    sine_transmissibility,
+)
 
 PAYLOAD = Payload.box(1.5, (0.10, 0.10, 0.08), (0.0, 0.0, 0.06))  # the gimbal's 1.5 kg, centre of mass 60 mm up
 K = (250.0, 250.0, 500.0)  # N m-1 per element x, y, z (the default six-axis isolator)
@@ -74,39 +82,91 @@ def test_a_small_stroke_is_the_linear_isolator_to_first_order():
     assert deviation[1] / deviation[0] == pytest.approx(10.0, rel=0.1)
 
 
-def test_a_yielding_run_matches_an_adaptive_integration_of_the_same_equations():
-    """At 2 mm and 2 mrad (strokes four times the 0.5 mm yield stroke, z at its limit): the equations written here
-    (M q'' + C (q' - u') + K_alpha (q - u) + H^T (1 - alpha) k z = 0, z' = s' - beta |s'| z - gamma s' |z|, the
-    mount's first-order hold) by LSODA at rtol 1e-9. Heun's rule over a step's stroke increment ds errs by about
-    (ds / z_max)^3 / 12 a step (ds up to 0.09 z_max here): measured 2.7e-4 of z's range, 3e-5 of the payload's
-    rotation; tolerances 2e-3 and 3e-4."""
-    wire = WireRope(alpha=0.3, yield_stroke=5e-4, exponent=1.0, beta_share=0.75)
-    t, tr, rot = mount(0.5, 2e-3)
-    got = run(isolator(), wire, t, tr, rot, C)
+def _lsoda(wire: WireRope, t, tr, rot, damping) -> np.ndarray:
+    """(q, q', z) on t by LSODA at rtol 1e-9 of the equations written here: M q'' + C_k (q' - u') + K_alpha (q - u)
+    + H^T (1 - alpha) k z = 0, z' = s' - beta |s'| z - gamma s' |z| (n = 1), the mount's first-order hold, C_k the
+    damping matrix at damping[k] (4,) N s m-1 held over step k; hysteretic axes x and y of each element."""
     u = np.vstack([tr, rot])
     slopes = np.diff(u, axis=1) / H
     m = mass_matrix(PAYLOAD)
-    k_alpha = stiffness_matrix(isolator((0.3 * K[0], 0.3 * K[1], K[2]))) + geometric_stiffness(isolator())
-    c = damping_matrix(isolator(), C)
-    rows = strokes_matrix(isolator())[[3 * i + a for i in range(4) for a in (0, 1)]]  # x, y of each element
+    a = wire.alpha
+    k_alpha = stiffness_matrix(isolator((a * K[0], a * K[1], K[2]))) + geometric_stiffness(isolator())
+    rows = strokes_matrix(isolator())[[3 * i + j for i in range(4) for j in (0, 1)]]  # x, y of each element
     k_h = np.tile(K[:2], 4)
-    beta, gamma = 0.75 / 5e-4, 0.25 / 5e-4
+    beta, gamma = wire.beta_gamma
+    held = {tuple(row): damping_matrix(isolator(), row) for row in np.unique(damping, axis=0).tolist()}
+    per_step = [held[tuple(row)] for row in np.asarray(damping).tolist()]
 
     def rhs(s, y):
         k = min(int(s / H), t.size - 2)
         uu, vv = u[:, k] + (s - t[k]) * slopes[:, k], slopes[:, k]
         q, qd, z = y[:6], y[6:12], y[12:]
         sd = rows @ (qd - vv)
-        force = -c @ (qd - vv) - k_alpha @ (q - uu) - rows.T @ (0.7 * k_h * z)
+        c = per_step[k]
+        force = -c @ (qd - vv) - k_alpha @ (q - uu) - rows.T @ ((1 - a) * k_h * z)
         return np.concatenate([qd, np.linalg.solve(m, force), sd - beta * np.abs(sd) * z - gamma * sd * np.abs(z)])
 
     y0 = np.concatenate([u[:, 0], slopes[:, 0], np.zeros(8)])
     ref = solve_ivp(rhs, (0.0, t[-1]), y0, method="LSODA", t_eval=t, rtol=1e-9, atol=1e-13, max_step=H)
     assert ref.success
-    assert np.abs(ref.y[12:]).max() > 0.99 * wire.yield_stroke  # the elements yield
-    assert relative(got.hysteretic_displacement, ref.y[12:]) < 2e-3
-    assert relative(got.payload_rotation, ref.y[3:6]) < 3e-4
-    assert relative(got.payload_translation, ref.y[:3]) < 3e-4
+    return ref.y
+
+
+def test_a_yielding_run_matches_an_adaptive_integration_of_the_same_equations():
+    """At 2 mm and 2 mrad (strokes four times the 0.5 mm yield stroke, z at its limit): `_lsoda`. Heun's rule over
+    a step's stroke increment ds errs by about (ds / z_max)^3 / 12 a step (ds up to 0.09 z_max here): measured
+    2.7e-4 of z's range, 3e-5 of the payload's rotation; tolerances 2e-3 and 3e-4."""
+    wire = WireRope(alpha=0.3, yield_stroke=5e-4, exponent=1.0, beta_share=0.75)
+    t, tr, rot = mount(0.5, 2e-3)
+    got = run(isolator(), wire, t, tr, rot, C)
+    ref = _lsoda(wire, t, tr, rot, np.broadcast_to(C, (t.size, 4)))
+    assert np.abs(ref[12:]).max() > 0.99 * wire.yield_stroke  # the elements yield
+    assert relative(got.hysteretic_displacement, ref[12:]) < 2e-3
+    assert relative(got.payload_rotation, ref[3:6]) < 3e-4
+    assert relative(got.payload_translation, ref[:3]) < 3e-4
+
+
+class _Karnopp:
+    """On-off skyhook per element written here: 100 N s/m when its stroke rate and absolute velocity agree in
+    direction (v_abs . v_rel > 0), else 1; the mount's velocity at each element from its rates (n, 6)."""
+
+    def __init__(self, t, rates):
+        self.t, self.rates, self.rows = t, rates, strokes_matrix(isolator())
+
+    def __call__(self, t_k, outputs):
+        k = int(round(t_k / H))
+        v_rel = outputs[6 + 12 :].reshape(4, 3)
+        v_abs = v_rel + (self.rows @ self.rates[k]).reshape(4, 3)
+        return np.where(np.sum(v_abs * v_rel, axis=1) > 0, 100.0, 1.0)
+
+
+def test_a_switching_schedule_on_a_yielding_run_matches_an_adaptive_integration():
+    """On-off skyhook (`_Karnopp`, decided at every sample from the run's outputs) on the yielding run: each
+    element's recorded C follows the rule on the run's own velocities (where v_abs . v_rel is clear of rounding),
+    the law switches, and the states match `_lsoda` held at the recorded C step by step within the constant
+    run's tolerances (the step map is exact for a held C). Alongside it in the same batch the array schedule of
+    those C gives the same run to rounding (the two ways into `integrate_scheduled`)."""
+    wire = WireRope(alpha=0.3, yield_stroke=5e-4, exponent=1.0, beta_share=0.75)
+    t, tr, rot = mount(0.5, 2e-3)
+    u = np.vstack([tr, rot])
+    slopes = np.diff(u, axis=1) / H
+    rates = np.vstack([slopes.T, slopes.T[-1:]])
+    w, z, _, applied = integrate_scheduled(isolator(), wire, t, tr, rot, [_Karnopp(t, rates), C])
+    got = applied[0]
+    assert np.array_equal(applied[1], np.broadcast_to(C, got.shape))
+    ds = run(isolator(), wire, t, tr, rot, got.T)
+    np.testing.assert_allclose(ds.payload_rotation.values.T, w[0, :, 3:6], rtol=0, atol=1e-12 * np.abs(w).max())
+    v_rel = ds.element_stroke_rate.values.transpose(2, 0, 1)  # (n, 4, 3)
+    v_abs = v_rel + (rates @ strokes_matrix(isolator()).T).reshape(-1, 4, 3)
+    power = np.sum(v_abs * v_rel, axis=2)
+    clear = np.abs(power) > 1e-9 * np.abs(power).max()
+    np.testing.assert_array_equal(got[clear], np.where(power > 0, 100.0, 1.0)[clear])
+    assert 0.2 < np.mean(got[:-1] == 100.0) < 0.8
+    ref = _lsoda(wire, t, tr, rot, got)
+    assert np.abs(ref[12:]).max() > 0.99 * wire.yield_stroke
+    assert relative(z[0], ref[12:].T) < 2e-3
+    assert relative(w[0, :, 3:6], ref[3:6].T) < 3e-4
+    assert relative(w[0, :, :3], ref[:3].T) < 3e-4
 
 
 @pytest.mark.parametrize("exponent", [1.0, 2.0])
@@ -205,3 +265,16 @@ def test_a_bad_mount_motion_is_refused(change):
         tr, rot = np.stack([tr, tr]), np.stack([rot, rot])
     with pytest.raises(ValueError, match="translation, rotation"):
         integrate(isolator(), WireRope(), t, tr, rot, [C])
+
+
+def test_a_damping_new_at_every_step_is_the_linear_run_at_alpha_one(monkeypatch):
+    """A schedule whose C changes every step (as a lagged damper's does: 1-31 N s/m, each element its own), with the
+    bank keeping only 8 step maps (so that maps are dropped and rebuilt within the run): at alpha = 1 the run is the
+    six-axis run's exact step map held at those C (to rounding), and the applied C is the schedule."""
+    monkeypatch.setattr(wire_rope, "MAX_MAPS", 8)
+    t, tr, rot = mount(0.1, 1.3e-3)
+    plan = 1.0 + 30.0 * np.random.default_rng(3).random((4, t.size))
+    wire = run(isolator(), WireRope(alpha=1.0), t, tr, rot, plan)
+    linear = linear_run(isolator(), t, tr, rot, schedule=plan)
+    for name in ("payload_translation", "payload_rotation", "element_stroke_rate", "damping"):
+        assert relative(wire[name], linear[name]) < 1e-12, name

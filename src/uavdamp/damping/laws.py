@@ -112,5 +112,9 @@ class Skyhook:
         """C, N s m-1, for absolute base velocity and relative (base - mount) velocity, m s-1, (y, z)."""
         return self.c_on if float(np.dot(v_abs, v_rel)) > 0.0 else self.c_off
 
+    def decide_rows(self, v_abs: np.ndarray, v_rel: np.ndarray) -> np.ndarray:
+        """`decide` for each row of (k, d) velocities (k dampers, each on its own velocities): (k,) N s m-1."""
+        return np.where(np.einsum("ij,ij->i", v_abs, v_rel) > 0.0, self.c_on, self.c_off)
+
     def __call__(self, observation: Observation) -> float:
         return self.decide(np.asarray(observation.base_velocity), np.asarray(observation.stroke_rate))

@@ -32,8 +32,9 @@ def _grid(time, translation, rotation) -> tuple[np.ndarray, float, np.ndarray]:
     return t, h, u.T
 
 
-def _schedule_array(isolator: SixAxisIsolator, schedule, n: int) -> np.ndarray | None:
-    """The schedule as (n, n_semi) N s m-1 (None: a callable, decided during the run), checked."""
+def schedule_array(isolator: SixAxisIsolator, schedule, n: int) -> np.ndarray | None:
+    """A damping schedule (n_semi,) or (n_semi, n) N s m-1 as (n, n_semi) (None: a callable, decided during the
+    run), checked."""
     n_semi = len(isolator.semi_active)
     if callable(schedule):
         return None
@@ -62,7 +63,7 @@ def run(
     slopes = np.diff(u, axis=0) / h  # (n - 1, 6), the mount rate on each step
     rates = np.vstack([slopes, slopes[-1:]])  # at each sample: the step starting there (the last: ending there)
     own = schedule is None  # the semi-active elements keep their own damping (reported as NaN)
-    plan = np.zeros((n, len(isolator.semi_active))) if own else _schedule_array(isolator, schedule, n)
+    plan = np.zeros((n, len(isolator.semi_active))) if own else schedule_array(isolator, schedule, n)
     cache: dict[tuple, tuple] = {}
 
     def model(c: np.ndarray):

@@ -40,13 +40,14 @@ from uavdamp.platform.six_axis import (
     strokes_matrix,
     total_stiffness,
 )
-from uavdamp.platform.six_axis_run import run_dataset
+from uavdamp.platform.six_axis_run import run_dataset, schedule_array
 from uavdamp.platform.statespace import StateSpace, discretise
 
 WHERE = "payload.wire_rope"  # the config section these parameters come from
 # fixed-point passes per step, each from the previous step's increment (the coupling per step is O(h^2 k / m)): on a
 # yielding run one pass is within 8e-9 of the converged rotations' range (two: 5e-13), far below Heun's rule's 3e-5
 ITERATIONS = 1
+MAX_MAPS = 1024  # step maps a run keeps (about 3 kB each): more are rebuilt when next taken
 
 
 @dataclass(frozen=True)
@@ -151,30 +152,98 @@ def integrate(
     _, h, u = _mount(time, translation, rotation)
     if u.ndim != 2:
         raise ValueError("translation, rotation: one mount motion, (3, n) each")
-    models = [_model(isolator, wire, c) for c in dampings]
-    w, z = _steps(wire, [discretise(plant, h) for plant, _, _ in models], models[0][1], h, u)
+    bank = _Bank(isolator, wire, h)
+    fixed = [bank.find(c) for c in dampings]
+    w, z = _steps(wire, bank, u, len(fixed), lambda k, w_k: fixed)
     return w, z, u
 
 
-def _steps(wire: WireRope, steps: list, h_rows: np.ndarray, h: float, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """States (B, n, 12) and z (B, n, n_h) of B runs side by side: run b on the step map steps[b] (a `Discrete`
-    of `_model`'s plant) under the mount coordinates u (n, 6), or u[b] when u is (B, n, 6)."""
-    n_c, n_h = len(steps), h_rows.shape[0]
-    u = np.broadcast_to(u, (n_c, *u.shape[-2:]))
+def integrate_scheduled(
+    isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, schedules: list
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """`integrate` with the semi-active elements' damping scheduled, one run per item of `schedules` side by side:
+    None (their own), an array (n_semi,) or (n_semi, n) N s m-1 acting from each sample on, or a callable
+    (t_k, outputs_k) -> (n_semi,) called at every sample with the outputs there (`uavdamp.platform.six_axis_run.run`'s
+    protocol: `six_axis.output_names`, the mount's rate at a sample the slope of the step from it). Each step is
+    the exact map at its held C (one `discretise` per distinct C). Returns states (B, n, 12), z (B, n, n_h), the
+    mount's coordinates (n, 6) and the applied C (B, n, n_semi) (NaN: the elements' own)."""
+    t, h, u = _mount(time, translation, rotation)
+    if u.ndim != 2:
+        raise ValueError("translation, rotation: one mount motion, (3, n) each")
+    n, n_semi = t.size, len(isolator.semi_active)
+    plans = [None if callable(s) or s is None else schedule_array(isolator, s, n) for s in schedules]
+    outputs = state_space(isolator)  # the outputs do not depend on the damping
+    rates = np.vstack([np.diff(u, axis=0), np.diff(u, axis=0)[-1:]]) / h
+    applied = np.full((len(schedules), n, n_semi), np.nan)
+    bank = _Bank(isolator, wire, h)
+
+    def choose(k: int, w_k: np.ndarray) -> np.ndarray:
+        y = w_k @ outputs.c.T + u[k] @ outputs.du.T + rates[k] @ outputs.dv.T
+        found = []
+        for b, (schedule, plan) in enumerate(zip(schedules, plans, strict=True)):
+            c = plan[k] if plan is not None else None if schedule is None else schedule(float(t[k]), y[b])
+            if c is not None:
+                applied[b, k] = c = np.asarray(c, dtype=float).ravel()
+            found.append(bank.find(c))
+        return found
+
+    w, z = _steps(wire, bank, u, len(schedules), choose)
+    return w, z, u, applied
+
+
+class _Bank:
+    """The step maps of `_model` at each damping a run takes (N s m-1 per semi-active element, or None: their own),
+    each built once (at most `MAX_MAPS` kept: a lagged damper's C is new every step), stacked per run of a batch
+    (`take`): [phi | gamma_u's e, u columns | gamma_v's u columns] (12, 24 + n_h) over (q, q', e_k, u_k, u's
+    slope), gamma_v's e columns / h (12, n_h), the states' increment per unit e increment, and its strokes H of
+    them (n_h, n_h)."""
+
+    def __init__(self, isolator: SixAxisIsolator, wire: WireRope, h: float):
+        self.isolator, self.wire, self.h = isolator, wire, h
+        self.h_rows = _model(isolator, wire, None)[1]  # the strokes do not depend on the damping
+        self.parts: dict = {}
+
+    def find(self, c) -> tuple | None:
+        """The key of damping c (built now if new)."""
+        key = None if c is None else tuple(np.asarray(c, dtype=float).ravel().tolist())
+        self._part(key)
+        return key
+
+    def _part(self, key) -> tuple[np.ndarray, ...]:
+        if key not in self.parts:
+            if len(self.parts) >= MAX_MAPS:
+                self.parts.clear()
+            s = discretise(_model(self.isolator, self.wire, None if key is None else np.array(key))[0], self.h)
+            maps = np.hstack([s.phi, s.gamma_u[:, 6:], s.gamma_u[:, :6], s.gamma_v[:, :6]])
+            ge1 = s.gamma_v[:, 6 : 6 + self.h_rows.shape[0]] / self.h
+            self.parts[key] = (maps, ge1, self.h_rows @ ge1[:6])
+        return self.parts[key]
+
+    def take(self, keys: list) -> tuple[np.ndarray, ...]:
+        return tuple(np.stack(a) for a in zip(*[self._part(k) for k in keys], strict=True))
+
+
+def _steps(wire: WireRope, bank: _Bank, u: np.ndarray, n_c: int, choose) -> tuple[np.ndarray, np.ndarray]:
+    """States (B, n, 12) and z (B, n, n_h) of B = n_c runs side by side under the mount coordinates u (n, 6), or
+    u[b] when u is (B, n, 6): over step k run b takes the step map of the bank's key choose(k, w_k)[b], w_k (B, 12)
+    the states at sample k (choose returns a list of `_Bank.find` keys; it is also called at the last sample)."""
+    h_rows, h = bank.h_rows, bank.h
+    n_h, u = h_rows.shape[0], np.broadcast_to(u, (n_c, *u.shape[-2:]))
     n = u.shape[1]
     slopes = np.diff(u, axis=1) / h
-    # the mount's part of every step, and each step's map of (q, q', e_k) and of e's increment
-    forcing = np.stack([u[b, :-1] @ s.gamma_u[:, :6].T + slopes[b] @ s.gamma_v[:, :6].T for b, s in enumerate(steps)])
-    maps = np.stack([np.hstack([s.phi, s.gamma_u[:, 6:]]) for s in steps])  # (n_c, 12, 12 + n_h)
-    ge1 = np.stack([s.gamma_v[:, 6:] / h for s in steps])  # (n_c, 12, n_h)
-    p = h_rows @ ge1[:, :6]  # (n_c, n_h, n_h): the stroke increment per unit e increment
     mount_strokes = u @ h_rows.T  # (n_c, n, n_h): H u
     w = np.zeros((n_c, n, 12))
     w[:, 0, :6], w[:, 0, 6:] = u[:, 0], slopes[:, 0]
     z = np.zeros((n_c, n, n_h))
     s_k, de = np.zeros((n_c, n_h)), np.zeros((n_c, n_h))  # the strokes at the step's start; e's increment
+    index = None
     for k in range(n - 1):
-        base = np.einsum("cij,cj->ci", maps, np.concatenate([w[:, k], s_k - z[:, k]], axis=1)) + forcing[:, k]
+        found = choose(k, w[:, k])
+        if found != index:
+            index = found
+            maps, ge1, p = bank.take(index)
+        inputs = np.concatenate([w[:, k], s_k - z[:, k], u[:, k], slopes[:, k]], axis=1)
+        base = np.einsum("cij,cj->ci", maps, inputs)
         d0 = base[:, :6] @ h_rows.T - mount_strokes[:, k + 1] - s_k
         for _ in range(ITERATIONS):
             ds = d0 + np.einsum("cij,cj->ci", p, de)
@@ -185,6 +254,8 @@ def _steps(wire: WireRope, steps: list, h_rows: np.ndarray, h: float, u: np.ndar
         w[:, k + 1] = base + np.einsum("cij,cj->ci", ge1, de)
         z[:, k + 1] = z[:, k] + dz
         s_k = s_k + ds
+    if n > 1:
+        choose(n - 1, w[:, n - 1])  # a schedule's decision at the last sample (applied over no step)
     return w, z
 
 
@@ -213,8 +284,9 @@ def sine_transmissibility(
     u = np.zeros((3, f.size, t.size, 6))
     for axis in range(3):
         u[axis, :, :, axis] = amplitude * np.sin(2 * np.pi * f[:, None] * t)
-    plant, h_rows, _ = _model(isolator, wire, semi_active_damping)
-    w, _ = _steps(wire, [discretise(plant, h)] * (3 * f.size), h_rows, h, u.reshape(-1, t.size, 6))
+    bank = _Bank(isolator, wire, h)
+    fixed = [bank.find(semi_active_damping)] * (3 * f.size)
+    w, _ = _steps(wire, bank, u.reshape(-1, t.size, 6), len(fixed), lambda k, w_k: fixed)
     keep = t >= t[-1] - fit_s
     out = np.empty((3, f.size))
     for axis in range(3):
@@ -226,23 +298,21 @@ def sine_transmissibility(
     return out
 
 
-def run(isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, semi_active_damping=None) -> xr.Dataset:
-    """The payload's response to a mount motion (`integrate`) at one `semi_active_damping` (N s m-1 per
-    semi-active element, constant; None: their own): the variables of `uavdamp.platform.six_axis_run.run` plus
-    each hysteretic axis's z (m) and force (1 - alpha) k z (N)."""
+def run(isolator: SixAxisIsolator, wire: WireRope, time, translation, rotation, schedule=None) -> xr.Dataset:
+    """The payload's response to a mount motion (`integrate_scheduled`) with the semi-active elements' damping
+    from `schedule` (None: their own; an array (n_semi,) or (n_semi, n) N s m-1; or a callable, the protocol of
+    `uavdamp.platform.six_axis_run.run`): the variables of that run plus each hysteretic axis's z (m) and force
+    (1 - alpha) k z (N)."""
     t = np.asarray(time, dtype=float)
-    w, z, u = integrate(isolator, wire, t, translation, rotation, [semi_active_damping])
-    k_h = _model(isolator, wire, semi_active_damping)[2]
-    return _dataset(isolator, wire, t, u, w[0], z[0], k_h, semi_active_damping)
+    w, z, u, applied = integrate_scheduled(isolator, wire, t, translation, rotation, [schedule])
+    return _dataset(isolator, wire, t, u, w[0], z[0], applied[0])
 
 
-def _dataset(isolator, wire, t, u, w, z, k_h, semi_active_damping) -> xr.Dataset:
+def _dataset(isolator, wire, t, u, w, z, applied) -> xr.Dataset:
     outputs = state_space(isolator)  # its outputs (q, strokes, stroke rates) do not depend on the stiffness
     rates = np.vstack([np.diff(u, axis=0), np.diff(u, axis=0)[-1:]]) / (t[1] - t[0])
     y = w @ outputs.c.T + u @ outputs.du.T + rates @ outputs.dv.T
-    n_semi = len(isolator.semi_active)
-    held = np.nan if semi_active_damping is None else np.asarray(semi_active_damping, dtype=float).ravel()
-    applied = np.broadcast_to(held, (t.size, n_semi))
+    k_h = _model(isolator, wire, None)[2]
     ds = run_dataset(isolator, t, u, y, applied, w[:, 6:])
     axes = hysteretic_axes(isolator, wire)
     coord = {

@@ -10,12 +10,16 @@ matplotlib.use("Agg")
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.legend_handler import HandlerTuple  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 from uavdamp.contract import STANDARD_GRAVITY as G  # noqa: E402
 from uavdamp.plots.style import number, plain_log_ticks  # noqa: E402
 
 URAD_PER_RAD = 1e6
+LAW_FILLS = {"six_axis": None, "wire_rope": "none"}  # the laws' markers per mount: filled (gimbal colour), hollow
+HOLLOW_SCALE = 1.5  # a hollow marker's size over a filled one's: a ring around it where the two mounts agree
+LAW_WORDS = {"six_axis": "filled six-axis", "wire_rope": "hollow wire rope"}
 ANCHOR_URAD = 175.0  # ±0.01 deg: the angular vibration range gimbal makers quote (DJI)
 FLOOR_URAD = 10.0  # the axes' lower limit: values below it are drawn on it as downward triangles
 COLORS = {"paper_head": "tab:red", "balanced_head": "tab:orange", "gimbal": "tab:blue"}
@@ -35,8 +39,8 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     """LOS rms (µrad, log) against the constant damping C (N s/m, log) per payload (colour) and mount (line
     style), one panel per input (`input`); the rigid mount, which has no damper, is a level line; the gimbal's
     sensor-noise floor (`floor_los_std`) dash-dotted grey where present; the skyhook runs as stars at their c_on,
-    the scheduled law as a hollow diamond at its mean C; values below FLOOR_URAD on the axis as downward
-    triangles."""
+    the scheduled law as a diamond at its mean C (filled on the six-axis isolator, hollow on the wire rope); values
+    below FLOOR_URAD on the axis as downward triangles."""
     inputs = [str(i) for i in ds.input.values]
     ncols = min(3, len(inputs))
     nrows = int(np.ceil(len(inputs) / ncols))
@@ -55,12 +59,7 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
                 ax.plot(c, np.maximum(y, FLOOR_URAD), ls=style, color=color, marker="o", ms=3, lw=1.3)
                 if np.any(below):  # e.g. a balanced head under a source without rotation: no line of sight at all
                     ax.plot(c[below], np.full(below.sum(), FLOOR_URAD), "v", color=color, ms=7, clip_on=False)
-        if "law_los_std" in ds:  # on-off skyhook on the six-axis isolator, at its c_on
-            y = ds.law_los_std.sel(input=name).values * URAD_PER_RAD
-            ax.plot(ds.law_c_on.sel(input=name).values, np.maximum(y, FLOOR_URAD), "*", color=COLORS["gimbal"], ms=10)
-        if "law_damping_mean" in ds:  # the scheduled law, at its mean C
-            x = ds.law_damping_mean.sel(input=name).values
-            ax.plot(x, np.maximum(y, FLOOR_URAD), "D", mfc="none", mec=COLORS["gimbal"], mew=1.5, ms=7)
+        _laws(ax, ds, name)
         ax.axhline(ANCHOR_URAD, color="k", lw=0.8, alpha=0.6)
         ax.annotate("±0.01° (175 µrad)", (1.0, ANCHOR_URAD), xycoords=("axes fraction", "data"), ha="right",
                     va="bottom", fontsize=7, alpha=0.8)  # fmt: skip
@@ -83,10 +82,27 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
         ax.set_visible(False)
     for ax in axes[-ncols:]:
         ax.set_xlabel("damping C of the isolator's dampers (N s/m)")
-    fig.legend(*_legend(ds), loc="outside right upper", fontsize=8)
+    fig.legend(*_legend(ds), loc="outside right upper", fontsize=8, handler_map={tuple: HandlerTuple(ndivide=None)})
     window = f"over {number(float(ds.attrs.get('settle_s', 0)))}-{number(float(ds.attrs.get('duration_s', 0)))} s"
     fig.suptitle(f"Camera line of sight per payload and mount ({window})", fontsize=11)
     return fig
+
+
+def _laws(ax, ds: xr.Dataset, name) -> None:
+    """The laws of input `name` on each mount they ran on: on-off skyhook as stars at their c_on, the scheduled
+    law as a diamond at its mean C; filled on the six-axis isolator, hollow on the wire rope."""
+    if "law_los_std" not in ds:
+        return
+    x = ds.law_c_on.sel(input=name).values
+    if "law_damping_mean" in ds:  # the scheduled law's x
+        x = np.where(np.isfinite(x), x, ds.law_damping_mean.sel(input=name).values)
+    scheduled = np.array([str(n) == "scheduled" for n in ds.law.values])
+    for mount, fill in LAW_FILLS.items():
+        if mount not in ds.mount.values:
+            continue
+        y = np.maximum(ds.law_los_std.sel(input=name, mount=mount).values * URAD_PER_RAD, FLOOR_URAD)
+        for marker, which, size in (("*", ~scheduled, 10), ("D", scheduled, 6)):
+            ax.add_line(_marker(marker, fill, size, x[which], y[which]))
 
 
 def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
@@ -96,13 +112,22 @@ def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
     labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
     handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]
     labels += [LABELS.get(str(m), str(m)) for m in ds.mount.values]
-    if "law_los_std" in ds:
-        handles.append(Line2D([], [], color=COLORS["gimbal"], ls="", marker="*", ms=10))
-        labels.append(f"gimbal, six-axis, skyhook (x: c_on;\nc_off {number(float(ds.damping.min()))} N s/m)")
-    if "law_damping_mean" in ds:
-        handles.append(Line2D([], [], ls="", marker="D", mfc="none", mec=COLORS["gimbal"], mew=1.5, ms=7))
-        labels.append("gimbal, six-axis, scheduled law\n(x: its mean C)")
+    mounts = [m for m in LAW_FILLS if "law_los_std" in ds and m in ds.mount.values]
+    c_off = f"skyhook (x: c_on; c_off {number(float(ds.damping.min()))} N s/m)"
+    for marker, size, text in (("*", 10, c_off), ("D", 6, "scheduled law (x: its mean C)")):
+        if marker == "D" and "scheduled" not in ds.get("law", []):
+            continue
+        marks = [_marker(marker, LAW_FILLS[m], size) for m in mounts]
+        if marks:
+            handles.append(tuple(marks))
+            labels.append(f"gimbal, {text}:\n{' / '.join(LAW_WORDS[m] for m in mounts)}")
     return handles, labels
+
+
+def _marker(marker: str, fill: str | None, size: float, x=(), y=()) -> Line2D:
+    """A law's markers at (x, y): filled in the gimbal's colour (fill None) or hollow and larger."""
+    size = size if fill is None else size * HOLLOW_SCALE
+    return Line2D(x, y, ls="", marker=marker, mec=COLORS["gimbal"], mfc=fill or COLORS["gimbal"], mew=1.2, ms=size)
 
 
 def _wrap(text: str, width: int) -> str:

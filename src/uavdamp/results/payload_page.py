@@ -37,7 +37,8 @@ def payload_table(ds: xr.Dataset) -> Table:
 
 def payload_findings(ds: xr.Dataset) -> list[str]:
     """Per input, the payload and mount of least line of sight (at its best constant C) against the 175 µrad
-    anchor, and the best skyhook run on the six-axis isolator against it (`_skyhook_finding`)."""
+    anchor, and the best skyhook run and the scheduled law on each six-axis isolator against it
+    (`_skyhook_finding`)."""
     out = []
     for i in ds.input.values:
         los = ds.los_std.sel(input=i)
@@ -56,6 +57,17 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
     return out
 
 
+MOUNT_WORDS = {"six_axis": "the six-axis isolator", "wire_rope": "the wire-rope isolator"}
+
+
+def _law_mounts(ds: xr.Dataset, name) -> list[str]:
+    """The mounts the laws ran on for input `name` (finite ``law_los_std``), in the dataset's order."""
+    if "law_los_std" not in ds:
+        return []
+    law = ds.law_los_std.sel(input=name)
+    return [str(m) for m in ds.mount.values if np.isfinite(law.sel(mount=m).values).any()]
+
+
 def _detrended_finding(ds: xr.Dataset, name) -> str:
     """The gimbal on the six-axis isolator without the slow drift (``los_detrended_std``, at its best constant C,
     and under skyhook where run) ('' without)."""
@@ -67,12 +79,11 @@ def _detrended_finding(ds: xr.Dataset, name) -> str:
         f" Without the slow drift (rms about a quadratic over the window), the gimbal on the six-axis isolator gives "
         f"{fmt(float(runs.values[k]) * 1e6, 3)} µrad at C = {fmt(float(ds.damping.values[k]), 3)} N s/m"
     )
-    if "law_los_detrended_std" in ds:
-        law = float(_skyhook(ds.law_los_detrended_std.sel(input=name)).min())
-        text += f", {fmt(law * 1e6, 3)} µrad under skyhook"
+    if "six_axis" in _law_mounts(ds, name) and "law_los_detrended_std" in ds:
+        laws = ds.law_los_detrended_std.sel(input=name, mount="six_axis")
+        text += f", {fmt(float(_skyhook(laws).min()) * 1e6, 3)} µrad under skyhook"
         if "scheduled" in ds.law.values:
-            scheduled = float(ds.law_los_detrended_std.sel(input=name, law="scheduled"))
-            text += f", {fmt(scheduled * 1e6, 3)} µrad under the scheduled law"
+            text += f", {fmt(float(laws.sel(law='scheduled')) * 1e6, 3)} µrad under the scheduled law"
     return text + "."
 
 
@@ -82,22 +93,24 @@ def _skyhook(law: xr.DataArray) -> xr.DataArray:
 
 
 def _skyhook_finding(ds: xr.Dataset, name) -> str:
-    """The best skyhook run on the six-axis isolator against the gimbal's best constant C there ('' without)."""
-    if "law_los_std" not in ds:
-        return ""
-    law = _skyhook(ds.law_los_std.sel(input=name))
-    k = int(np.nanargmin(law.values))
-    best = float(ds.los_std.sel(input=name, payload="gimbal", mount="six_axis").min())
-    value, c_on = float(law.values[k]), float(_skyhook(ds.law_c_on.sel(input=name)).values[k])
-    text = (
-        f" Skyhook on the six-axis isolator (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
-        f"{signed(100 * (value / best - 1), 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
-    )
-    if "scheduled" in ds.law.values:
-        scheduled = ds.sel(input=name, law="scheduled")
-        value, mean = float(scheduled.law_los_std), float(scheduled.law_damping_mean)
+    """Per mount the laws ran on, the best skyhook run and the scheduled law against the gimbal's best constant C
+    on that mount ('' without)."""
+    text = ""
+    for mount in _law_mounts(ds, name):
+        law = _skyhook(ds.law_los_std.sel(input=name, mount=mount))
+        k = int(np.nanargmin(law.values))
+        best = float(ds.los_std.sel(input=name, payload="gimbal", mount=mount).min())
+        value, c_on = float(law.values[k]), float(_skyhook(ds.law_c_on.sel(input=name)).values[k])
         text += (
-            f" The scheduled law (C from the tracked lines through the payload table; mean {fmt(mean, 2)} N s/m): "
-            f"{fmt(value * 1e6, 3)} µrad, {signed(100 * (value / best - 1), 2)} % against the best constant C."
+            f" Skyhook on {MOUNT_WORDS[mount]} (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
+            f"{signed(100 * (value / best - 1), 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
         )
+        if "scheduled" in ds.law.values:
+            scheduled = ds.sel(input=name, law="scheduled", mount=mount)
+            value, mean = float(scheduled.law_los_std), float(scheduled.law_damping_mean)
+            text += (
+                f" The scheduled law there (C from the tracked lines through the payload table; mean {fmt(mean, 2)} "
+                f"N s/m): {fmt(value * 1e6, 3)} µrad, {signed(100 * (value / best - 1), 2)} % against the best "
+                "constant C."
+            )
     return text

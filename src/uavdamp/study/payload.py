@@ -55,6 +55,7 @@ from uavdamp.study import payload_laws as laws
 from uavdamp.study import payload_runs as runs
 from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face)
     MECHANISM_MASS_KG,
+    SIX_AXIS_MOUNTS,
     gimbal_height,
     gimbal_mass,
     gimbal_params,
@@ -71,7 +72,6 @@ from uavdamp.study.payload_table import check as check_table
 
 PAYLOADS = ("paper_head", "balanced_head", "gimbal")
 MOUNTS = ("rigid", "yz", "six_axis", "wire_rope")
-SIX_AXIS_MOUNTS = ("six_axis", "wire_rope")  # the gimbal only: the heads' plant has a Y-Z isolator alone
 HEADS = ("paper_head", "balanced_head")
 
 

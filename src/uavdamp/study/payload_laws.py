@@ -1,13 +1,17 @@
-"""Semi-active laws on the gimbal's six-axis isolator: the payload comparison's C(t) beside its constant C.
+"""Semi-active laws on the gimbal's six-axis isolators (``six_axis`` and ``wire_rope``, the mounts of
+`payload_runs.SIX_AXIS_MOUNTS` the config names): the payload comparison's C(t) beside its constant C.
 
 Karnopp's on-off skyhook (`uavdamp.damping.laws.Skyhook`, the law the study runs on the paper's platform) decides
 each semi-active element's damping from that element's own velocities: v_rel its stroke rate (payload minus
 mount at the element, 3 axes) and v_abs = v_rel + the mount's velocity there, c_on when the damper's force
 -C v_rel opposes v_abs (v_abs . v_rel > 0), else c_off; decided at every sample of the run's grid, held over the
-step (`uavdamp.platform.six_axis_run.run`, exact for the held C), through a damper that follows the demand at once
+step (`uavdamp.platform.six_axis_run.run`; on the wire rope `uavdamp.platform.wire_rope.integrate_scheduled`:
+exact for the held C), through a damper that follows the demand at once
 (``payload.skyhook_lag_s`` 0, the default) or with a first-order lag. The body's motion then feeds the gimbal as in the
 constant runs (`uavdamp.study.payload_runs`): coordinates and rates from the run's states, accelerations their
-central differences.
+central differences. The scheduled law (`uavdamp.study.payload_schedule`) reads the mount alone: one plan of C
+per input, run on each mount (on the wire rope the payload table is its small-amplitude limit's, the rubber-ball
+isolator's: an assumption of the law, not of the run).
 """
 
 from __future__ import annotations
@@ -22,20 +26,31 @@ from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Skyhook
 from uavdamp.platform.six_axis import DOFS, SixAxisIsolator, strokes_matrix
 from uavdamp.platform.six_axis_run import run
-from uavdamp.study.payload_runs import BodyMotion, gimbal_series, metric_attrs, run_metrics, six_axis_isolator
+from uavdamp.study.payload_runs import (
+    METRICS,
+    SIX_AXIS_MOUNTS,
+    BodyMotion,
+    gimbal_series,
+    hysteretic_law_motions,
+    isolator,
+    metric_attrs,
+    run_metrics,
+)
 from uavdamp.study.payload_schedule import schedule, scheduled_run
 
 
 def skyhook_schedule(
     isolator: SixAxisIsolator, time: np.ndarray, mount_rates: np.ndarray, law: Skyhook, lag_s: float = 0.0
 ) -> Callable:
-    """The callable schedule (t_k, outputs_k) -> C per semi-active element (N s m-1) of `six_axis_run.run`:
-    `law.decide(v_abs, v_rel)` per element, mount_rates (n, 6) the mount's rates at the samples as the run takes
-    them (the slope of the step that starts there). lag_s > 0: the damper's C follows the demand d_k (held over
+    """The callable schedule (t_k, outputs_k) -> C per semi-active element (N s m-1) of `six_axis_run.run` and
+    `wire_rope.integrate_scheduled`: `law.decide_rows(v_abs, v_rel)` (`Skyhook.decide` of each element's own
+    velocities), mount_rates (n, 6) the mount's rates at the samples as the run takes them (the slope of the step
+    that starts there). lag_s > 0: the damper's C follows the demand d_k (held over
     the step from t_k) with a first-order lag of that time constant, C(t_k+1) = d_k + (C(t_k) - d_k) e, e =
     exp(-h / lag_s), exactly; the run holds each step's mean, d_k + (C(t_k) - d_k) (1 - e) lag_s / h (choice: the
     step's damping impulse), which is d_k for lag_s 0. The damper starts settled on the first demand."""
     n_el, t0, h = isolator.n_elements, float(time[0]), float(time[1] - time[0])
+    semi = np.array(isolator.semi_active, dtype=int)
     at_elements = strokes_matrix(isolator)  # (3 n_el, 6): a 6-DOF motion's translation at each element
     decay = math.exp(-h / lag_s) if lag_s > 0 else 0.0
     mean_share = (1.0 - decay) * lag_s / h if lag_s > 0 else 0.0  # of the start's distance to the demand
@@ -45,7 +60,7 @@ def skyhook_schedule(
         k = int(round((t_k - t0) / h))
         v_rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)
         v_abs = v_rel + (at_elements @ mount_rates[k]).reshape(n_el, 3)
-        demand = np.array([law.decide(v_abs[i], v_rel[i]) for i in isolator.semi_active])
+        demand = law.decide_rows(v_abs[semi], v_rel[semi])
         start = state.get("c", demand)  # C(t_k); the first sample: settled on its demand
         state["c"] = demand + (start - demand) * decay
         return demand + (start - demand) * mean_share
@@ -53,19 +68,28 @@ def skyhook_schedule(
     return decide
 
 
+def _mount_rates(time: np.ndarray, mount: MountMotion) -> np.ndarray:
+    """The mount's rates (n, 6) at the samples as the runs take them: the slope of the step that starts there (the
+    last sample: the step that ends there)."""
+    u = np.vstack([np.asarray(mount.translation, dtype=float), np.asarray(mount.rotation, dtype=float)])
+    slopes = np.diff(u, axis=1) / float(time[1] - time[0])
+    return np.hstack([slopes, slopes[:, -1:]]).T
+
+
+def _on_share(applied: np.ndarray, c_on: float, c_off: float) -> float:
+    """The share of element-steps (the last sample's decision acts over no step) whose C is nearer c_on."""
+    return float(np.mean(applied[:-1] > 0.5 * (c_on + c_off))) if c_on != c_off else 1.0
+
+
 def skyhook_motion(
     isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_on: float, c_off: float, lag_s: float = 0.0
 ) -> tuple[BodyMotion, float]:
     """(the payload's motion under on-off skyhook between c_on and c_off N s m-1 through a damper of lag lag_s s
     (`skyhook_schedule`), the share of element-steps whose applied C is nearer c_on than c_off)."""
-    h = float(time[1] - time[0])
-    u = np.vstack([np.asarray(mount.translation, dtype=float), np.asarray(mount.rotation, dtype=float)])
-    slopes = np.diff(u, axis=1) / h
-    rates = np.hstack([slopes, slopes[:, -1:]]).T  # (n, 6), as `run` takes them
-    law = Skyhook(c_on, c_off, h)
-    ds = run(isolator, time, u[:3], u[3:], skyhook_schedule(isolator, time, rates, law, lag_s))
-    on = float(np.mean(ds.damping.values[:, :-1] > 0.5 * (c_on + c_off))) if c_on != c_off else 1.0
-    return body_motion(ds, h), on
+    law = Skyhook(c_on, c_off, float(time[1] - time[0]))
+    decide = skyhook_schedule(isolator, time, _mount_rates(time, mount), law, lag_s)
+    ds = run(isolator, time, mount.translation, mount.rotation, decide)
+    return body_motion(ds, float(time[1] - time[0])), _on_share(ds.damping.values.T, c_on, c_off)
 
 
 def body_motion(ds, h: float) -> BodyMotion:
@@ -77,10 +101,16 @@ def body_motion(ds, h: float) -> BodyMotion:
     return BodyMotion(coordinates, body_rates, accelerations, float(np.abs(ds.element_stroke.values).max()))
 
 
+def law_mounts(section) -> list[str]:
+    """The mounts the laws run on: those of `payload_runs.SIX_AXIS_MOUNTS` the section names, in its order ([]
+    without the gimbal)."""
+    return [m for m in section.mounts if m in SIX_AXIS_MOUNTS] if "gimbal" in section.payloads else []
+
+
 def law_c_on(section) -> list[float]:
     """The skyhook runs' c_on, N s m-1: every damping candidate above c_off (`PayloadSection.c_off`, a choice):
-    the choice of c_on swept over the candidates; [] when the section compares no gimbal on a six-axis isolator."""
-    if "gimbal" not in section.payloads or "six_axis" not in section.mounts:
+    the choice of c_on swept over the candidates; [] when the section compares no gimbal on a six-axis mount."""
+    if not law_mounts(section):
         return []
     return [float(c) for c in sorted(section.damping) if c > section.c_off]
 
@@ -90,45 +120,72 @@ def law_names(section) -> list[str]:
     return [f"skyhook_{c:g}" for c in law_c_on(section)]
 
 
+def _mount_laws(section, mount: str, t: np.ndarray, moved: MountMotion, per_sample) -> tuple[list, list[float]]:
+    """(the payload's `BodyMotion` on `mount` under each skyhook run of `law_c_on`, then the scheduled C
+    per_sample (n,) N s m-1 unless None; each run's share of element-steps at c_on, NaN for the scheduled)."""
+    c_off, lag, h, c_ons = section.c_off, section.skyhook_lag, float(t[1] - t[0]), law_c_on(section)
+    found = isolator(section, mount, c_off)
+    if mount == "six_axis":
+        pairs = [skyhook_motion(found, t, moved, c_on, c_off, lag) for c_on in c_ons]
+        bodies, shares = [b for b, _ in pairs], [on for _, on in pairs]
+        if per_sample is not None:
+            bodies.append(body_motion(scheduled_run(found, t, moved, per_sample), h))
+        return bodies, shares + [math.nan] * (per_sample is not None)
+    rates = _mount_rates(t, moved)
+    schedules: list = [skyhook_schedule(found, t, rates, Skyhook(c, c_off, h), lag) for c in c_ons]
+    if per_sample is not None:
+        schedules.append(np.broadcast_to(per_sample, (len(found.semi_active), t.size)))
+    bodies, applied = hysteretic_law_motions(section, c_off, schedules, t, moved)
+    shares = [_on_share(applied[b], c, c_off) for b, c in enumerate(c_ons)]
+    return bodies, shares + [math.nan] * (per_sample is not None)
+
+
 def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
-    """Per law, the gimbal on the six-axis isolator under the gridded input: every metric of
-    `payload_runs.METRICS`, ``on_fraction``, ``c_on`` and ``damping_mean`` (N s m-1; NaN where a law has none),
-    each (law,), and ``name``: the skyhook runs of `law_names`, then ``scheduled`` (`uavdamp.study.
-    payload_schedule`) when the setup has a payload table, its decisions as ``schedule`` (a `Schedule`); {}
-    without laws. `setup`: the payload comparison's."""
+    """Per mount of the section and law, the gimbal on that mount under the gridded input: every metric of
+    `payload_runs.METRICS` and ``on_fraction`` (mount, law), NaN on a mount without laws (not in `law_mounts`);
+    ``c_on`` and ``damping_mean`` (law,) (N s m-1; NaN where a law has none); ``name`` (law,): the skyhook runs of
+    `law_names`, then ``scheduled`` (`uavdamp.study.payload_schedule`) when the setup has a payload table, its
+    decisions as ``schedule`` (a `Schedule`, the same on every mount); {} without laws. `setup`: the payload
+    comparison's. Every law body of every mount feeds the gimbal side by side."""
     s = setup.section
-    c_off, bodies, rows = s.c_off, [], []
-    for c_on in law_c_on(s):
-        body, on = skyhook_motion(six_axis_isolator(s, c_off), t, moved, c_on, c_off, s.skyhook_lag)
-        bodies.append(body)
-        rows.append({"on_fraction": on, "c_on": c_on, "damping_mean": math.nan, "name": f"skyhook_{c_on:g}"})
-    plan = None
-    if law_c_on(s) and setup.table is not None:
-        plan = schedule(t, moved, setup.table, s.schedule)
-        bodies.append(body_motion(scheduled_run(six_axis_isolator(s, c_off), t, moved, plan.per_sample), t[1] - t[0]))
-        mean = float(np.mean(plan.per_sample[window_mask(t, s.settle_s, s.duration_s)]))
-        rows.append({"on_fraction": math.nan, "c_on": math.nan, "damping_mean": mean, "name": "scheduled"})
-    if bodies:  # the gimbal on every law's body, side by side
-        errors = s.gimbal.sensor_errors
-        found = gimbal_series(setup.gimbal, setup.gains, t, bodies, setup.lever, sensor_errors=errors, seed=s.seed)
-        rows = [
-            run_metrics(t, series, setup.camera, s.settle_s, s.duration_s) | row
-            for series, row in zip(found, rows, strict=True)
-        ]
-    out = {k: np.array([r[k] for r in rows]) for k in rows[0]} if rows else {}
-    return out | ({"schedule": plan} if plan is not None else {})
+    if not law_c_on(s):
+        return {}
+    plan = schedule(t, moved, setup.table, s.schedule) if setup.table is not None else None
+    names = law_names(s) + ["scheduled"] * (plan is not None)
+    cells, bodies, shares = [], [], []
+    for mount in law_mounts(s):
+        found, on = _mount_laws(s, mount, t, moved, None if plan is None else plan.per_sample)
+        cells += [(s.mounts.index(mount), k) for k in range(len(names))]
+        bodies, shares = bodies + found, shares + on
+    errors = s.gimbal.sensor_errors
+    series = gimbal_series(setup.gimbal, setup.gains, t, bodies, setup.lever, sensor_errors=errors, seed=s.seed)
+    out = {name: np.full((len(s.mounts), len(names)), math.nan) for name in (*METRICS, "on_fraction")}
+    for cell, found, on in zip(cells, series, shares, strict=True):
+        for name, value in run_metrics(t, found, setup.camera, s.settle_s, s.duration_s).items():
+            out[name][cell] = value
+        out["on_fraction"][cell] = on
+    out["c_on"] = np.array(law_c_on(s) + [math.nan] * (plan is not None))
+    out["damping_mean"] = np.full(len(names), math.nan)
+    if plan is not None:
+        out["damping_mean"][-1] = float(np.mean(plan.per_sample[window_mask(t, s.settle_s, s.duration_s)]))
+    return out | {"name": np.array(names)} | ({"schedule": plan} if plan is not None else {})
+
+
+def _on_mounts(attrs: dict) -> dict:
+    """A law metric's attributes, its long name saying where it is NaN."""
+    return attrs | {"long_name": f"{attrs['long_name']} (NaN: a mount without laws, rigid or Y-Z)"}
 
 
 def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
-    """(data variables law_NAME (law), the law coordinate) of `law_values`' output for a dataset."""
+    """(data variables law_NAME (mount, law) or (law,), the law coordinate) of `law_values`' output for a dataset."""
     if not values:
         return {}, {}
     extra = ("on_fraction", "c_on", "damping_mean", "name", "schedule")
-    data = {f"law_{k}": (("law",), v, metric_attrs(k)) for k, v in values.items() if k not in extra}
+    data = {f"law_{k}": (("mount", "law"), v, _on_mounts(metric_attrs(k))) for k, v in values.items() if k not in extra}
     data["law_on_fraction"] = (
-        ("law",),
+        ("mount", "law"),
         values["on_fraction"],
-        {"units": "1", "long_name": "share of element-steps at c_on (skyhook)"},
+        _on_mounts({"units": "1", "long_name": "share of element-steps at c_on (skyhook)"}),
     )
     data["law_c_on"] = (("law",), values["c_on"], {"units": "N s m-1", "long_name": "skyhook's on damping"})
     data["law_damping_mean"] = (
@@ -138,8 +195,9 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
     )
     lag = f", damper lag {section.skyhook_lag:g} s" if section.skyhook_lag > 0 else ", ideal damper"
     text = (
-        "semi-active law on the six-axis isolator's elements, the gimbal on it: on-off skyhook between c_on and "
-        f"c_off {section.c_off:g} N s m-1{lag}; scheduled: C from the tracked lines through the payload table"
+        "semi-active law on a six-axis isolator's elements (six_axis, wire_rope), the gimbal on it: on-off skyhook "
+        f"between c_on and c_off {section.c_off:g} N s m-1{lag}; scheduled: C from the tracked lines through the "
+        "payload table"
     )
     coords = {"law": ("law", [str(n) for n in values["name"]], {"units": "1", "long_name": text})}
     if "schedule" in values:

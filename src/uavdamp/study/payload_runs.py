@@ -43,6 +43,7 @@ from uavdamp.platform.six_axis import (
 )
 from uavdamp.platform.statespace import discretise, lift, propagate
 
+SIX_AXIS_MOUNTS = ("six_axis", "wire_rope")  # the gimbal only: the heads' plant has a Y-Z isolator alone
 MECHANISM_MASS_KG = 0.3  # kg, the gimbal's brackets and motors (choice: three ~70 g motors and ~90 g of brackets)
 
 
@@ -188,6 +189,18 @@ def hysteretic_motions(section, dampings, time: np.ndarray, mount: MountMotion) 
         found, section.wire_rope.params(), time, u[:, :3].T, u[:, 3:].T, [[float(c)] * n_semi for c in dampings]
     )
     return [_state_motion(found, w, u, h) for w in states]
+
+
+def hysteretic_law_motions(section, c: float, schedules: list, time: np.ndarray, mount: MountMotion):
+    """(the payload on the wire-rope isolator (its elements' own damping C, N s m-1) under each of `schedules` (the
+    semi-active elements' damping: arrays or callables, `uavdamp.platform.wire_rope.integrate_scheduled`),
+    integrated side by side, as `BodyMotion`s; the applied C (B, n, n_semi) N s m-1)."""
+    found = isolator(section, "wire_rope", c)
+    u = _coordinates(mount)
+    states, _, _, applied = wire_rope.integrate_scheduled(
+        found, section.wire_rope.params(), time, u[:, :3].T, u[:, 3:].T, schedules
+    )
+    return [_state_motion(found, w, u, float(time[1] - time[0])) for w in states], applied
 
 
 def gimbal_series(
