@@ -9,7 +9,8 @@ DIR, default reports/helicopter/runs of a run of `all`, as the excitation stage 
 ``payload.sources``, for `--duration` s scored from `--settle` s (the stage: 5 s from 1 s), at the constant damping
 candidates, under skyhook and under the scheduled law with the config's payload table: line-of-sight rms and
 detrended rms (µrad) per input as a Markdown table, the 5 s run's beside it, and the gimbal's rms on a still mount
-over the same window (its sensor-noise floor). `--mount wire_rope` prints the constant C and the laws on the
+over the same window (its sensor-noise floor); on the six-axis isolator also the MR damper's four runs
+(`uavdamp.study.payload_mr`). `--mount wire_rope` prints the constant C and the laws on the
 wire-rope isolator instead. A case rebuilt over the longer record is scaled on it
 (its dominant line read over the whole record): its scale per axis is printed beside the stage's 5 s case's
 (`--cases`).
@@ -30,6 +31,7 @@ from uavdamp.sources import excitation
 from uavdamp.sources.excitation import case_motion
 from uavdamp.sources.stated import StatedSource, motion
 from uavdamp.study import payload, payload_table
+from uavdamp.study.payload_mr import MR_LAWS
 
 URAD = 1e6
 
@@ -53,13 +55,16 @@ def row(section, platform, camera, table, t, moved, mount: str = "six_axis") -> 
         f"{a * URAD:.0f} / {b * URAD:.0f}"
         for a, b in zip(own.los_std.values, own.los_detrended_std.values, strict=True)
     ]
-    sky = [k for k, n in enumerate(ds.law.values) if str(n) != "scheduled"]
+    sky = [k for k, n in enumerate(ds.law.values) if str(n).startswith("skyhook_")]
     k = min(sky, key=lambda j: float(ds.law_los_std.values[j]))
     rms, flat = float(ds.law_los_std.values[k]) * URAD, float(ds.law_los_detrended_std.values[k]) * URAD
     cells.append(f"{rms:.0f} / {flat:.0f} ({float(ds.law_c_on.values[k]):g})")
     s = ds.sel(law="scheduled")
     rms, flat = float(s.law_los_std) * URAD, float(s.law_los_detrended_std) * URAD
     cells.append(f"{rms:.0f} / {flat:.0f} ({float(s.law_damping_mean):.2g})")
+    for name in MR_LAWS if "mr_off" in ds.law.values and mount == "six_axis" else ():
+        mr = ds.sel(law=name)
+        cells.append(f"{float(mr.law_los_std) * URAD:.0f} / {float(mr.law_los_detrended_std) * URAD:.0f}")
     floor = float(ds.floor_los_std.sel(payload="gimbal")) * URAD
     return [*cells, f"{floor:.0f}"]
 
@@ -84,6 +89,7 @@ def main() -> None:
     long = dataclasses.replace(base, duration_s=args.duration, settle_s=args.settle)
     head = ["input", "run", *[f"{args.mount} C {c:g}" for c in base.damping], "best skyhook (c_on)"]
     head += ["scheduled (mean C)"]
+    head += [f"MR {n[3:]}" for n in MR_LAWS] if base.mr.enabled and args.mount == "six_axis" else []
     head += ["still mount (rms)"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
     runs = [

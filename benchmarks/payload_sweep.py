@@ -147,7 +147,7 @@ def main() -> None:
                 best = float(ds.best_damping.sel(input=i, payload="gimbal", mount=m))
                 cells.append(f"{float(los.sel(mount=m, damping=best)):.0f} ({best:g})")
             for m in law_mounts if "law_los_std" in ds else ():
-                sky = ds.law.str.startswith("skyhook").values
+                sky = ds.law.str.startswith("skyhook_").values
                 law = ds.law_los_std.sel(input=i, mount=m).values[sky] * URAD
                 c_on = ds.law_c_on.sel(input=i).values[sky]
                 best = int(np.argmin(law))

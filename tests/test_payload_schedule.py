@@ -124,6 +124,7 @@ def test_a_law_left_one_damping_is_the_constant_run_at_it():
         damping_n_s_m=[1.0, c],
         duration_s=2.0,
         schedule={"initial_damping_n_s_m": c, "max_decay_time_s": float(decay[table.damping.values == c][0])},
+        mr={"enabled": False},
     ).with_camera(PLATFORM.structure)
     t = np.arange(int(round(3.0 / section.time_step_s)) + 1) * section.time_step_s
     u = np.zeros((6, t.size))

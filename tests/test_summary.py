@@ -336,6 +336,7 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
             "payload": ["gimbal"],
             "mount": ["rigid", "six_axis", "wire_rope"],
             "damping": [3.0, 30.0],
+            "law": ["skyhook_30", "skyhook_100"],
         },
     )
     (finding,) = payload_page.payload_findings(ds)
@@ -398,7 +399,36 @@ def test_the_payload_findings_state_the_gimbals_line_of_sight_without_the_slow_d
             "law_los_detrended_std": (("input", "mount", "law"), [[[35e-6, 50e-6]]], {"units": "rad"}),
             "law_c_on": (("input", "law"), [[30.0, 100.0]], {"units": "N s m-1"}),
         },
-        coords={"input": ["heli"], "payload": ["gimbal"], "mount": ["six_axis"], "damping": [3.0, 30.0]},
+        coords={
+            "input": ["heli"],
+            "payload": ["gimbal"],
+            "mount": ["six_axis"],
+            "damping": [3.0, 30.0],
+            "law": ["skyhook_30", "skyhook_100"],
+        },
     )
     (finding,) = payload_page.payload_findings(ds)
     assert "gimbal on the six-axis isolator gives 40 µrad at C = 3 N s/m, 35 µrad under skyhook." in finding
+
+
+def test_the_payload_findings_state_the_mr_dampers_runs_against_the_best_constant_c():
+    """MR runs on the six-axis isolator (held 0 V: 150 µrad, 2.25 V: 50, skyhook 80, scheduled 90; c_eq 1 and 6
+    N s/m) against the best constant C there (100 µrad): each with its per cent; a skyhook_3 run beside them is not
+    taken for one of them."""
+    names = ["skyhook_3", "mr_off", "mr_on", "mr_skyhook", "mr_scheduled"]
+    ds = xr.Dataset(
+        {
+            "los_std": (("input", "payload", "mount", "damping"), [[[[1e-4, 2e-4]]]], {"units": "rad"}),
+            "law_los_std": (("input", "mount", "law"), [[[70e-6, 150e-6, 50e-6, 80e-6, 90e-6]]], {"units": "rad"}),
+            "law_c_on": (("input", "law"), [[3.0, np.nan, np.nan, 6.0, np.nan]], {"units": "N s m-1"}),
+            "law_damping_mean": (("input", "law"), [[np.nan, 1.0, 6.0, np.nan, 4.2]], {"units": "N s m-1"}),
+        },
+        coords={"input": ["heli"], "payload": ["gimbal"], "mount": ["six_axis"], "damping": [3.0, 30.0], "law": names},
+    )
+    (finding,) = payload_page.payload_findings(ds)
+    assert (
+        "An MR damper on each element (c_eq 1-6 N s/m at the reference stroke): held at 0 V 150 µrad (+50 %), at "
+        "2.25 V 50 µrad (-50 %), under skyhook 80 µrad (-20 %), scheduled 90 µrad (-10 %), against the best "
+        "constant C." in finding
+    )
+    assert "Skyhook on the six-axis isolator (gimbal): 70 µrad at c_on = 3 N s/m" in finding

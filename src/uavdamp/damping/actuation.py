@@ -73,6 +73,10 @@ class MRSpec:
         """The command voltage for a demand (N s m-1): the table inverted linearly, clamped to its ends."""
         return float(np.interp(damping, self.damping, self.volts))
 
+    def voltages(self, damping) -> np.ndarray:
+        """`voltage` of each demand of an array (N s m-1), V."""
+        return np.interp(np.asarray(damping, dtype=float), self.damping, self.volts)
+
 
 def mr_dataset(spec: MRSpec) -> xr.Dataset:
     """The MR damper as a dataset: Spencer parameters (scalars) and the command table over voltage."""

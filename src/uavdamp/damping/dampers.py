@@ -49,7 +49,7 @@ REFERENCE_FREQUENCY_HZ = 8.0  # Hz, reference stroke (choice: the isolator's 8 H
 REFERENCE_VELOCITY = 0.05  # m s-1, reference stroke rate amplitude (choice: ~1 mm at 8 Hz, the paper's 1.3 mm input)
 MAX_SUBSTEP = 5e-4  # s, default internal sub-step (choice: force within 0.2 % of Radau, tests/test_dampers.py)
 
-_SDIRK = 1.0 - math.sqrt(0.5)  # Alexander's two-stage L-stable SDIRK: stage abscissae gamma and 1
+SDIRK_GAMMA = 1.0 - math.sqrt(0.5)  # Alexander's two-stage L-stable SDIRK: stage abscissae gamma and 1
 _CM = 1e-2  # m per cm: the paper's Table 1 is in N, cm, s and V
 
 
@@ -181,8 +181,8 @@ def _platform_scales(c_min: float, c_max: float, velocity: float, frequency: flo
     return s * c_max / ceq(stroke, v_max), s
 
 
-def _hermite(s: float, h: float, x0, xd0, x1, xd1):
-    """(x, x') at the fraction s of a step h of the cubic with those end values and slopes."""
+def hermite(s: float, h: float, x0, xd0, x1, xd1):
+    """(x, x') at the fraction s of a step h of the cubic with those end values and slopes (floats or arrays)."""
     s2, s3 = s * s, s * s * s
     x = (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * h * xd0 + (3 * s2 - 2 * s3) * x1 + (s3 - s2) * h * xd1
     xd = ((6 * s2 - 6 * s) * (x0 - x1)) / h + (3 * s2 - 4 * s + 1) * xd0 + (3 * s2 - 2 * s) * xd1
@@ -253,8 +253,8 @@ def _sign(value: float) -> float:
     return 1.0 if value > 0 else (-1.0 if value < 0 else 0.0)
 
 
-def _force(p: SpencerParams, y: float, z: float, u: float, x: float, xd: float) -> float:
-    """F (N) of one axis at the states (y m, z m, u V) for the stroke x (m) and rate xd (m s-1)."""
+def spencer_force(p: SpencerParams, y, z, u, x, xd):
+    """F (N) at the states (y m, z m, u V) for the stroke x (m) and rate xd (m s-1): floats or arrays alike."""
     alpha, c0, c1 = p.coefficients(u)
     return c1 * (alpha * z + c0 * xd + p.k0 * (x - y)) / (c0 + c1) + p.k1 * (x - p.x0)
 
@@ -263,19 +263,19 @@ def _advance(p: SpencerParams, state, v: float, h: float, n_sub: int, stroke):
     """One axis over a step h in n_sub SDIRK sub-steps (module docstring): ((y, z, u) at its end, F at its end,
     F averaged over it by the trapezoidal rule on the sub-steps)."""
     y, z, u = state
-    dt, g = h / n_sub, _SDIRK
+    dt, g = h / n_sub, SDIRK_GAMMA
     a, decay, decay_g = g * dt, math.exp(-p.eta * dt), math.exp(-p.eta * g * dt)
-    total = 0.5 * _force(p, y, z, u, stroke[0], stroke[1])
+    total = 0.5 * spencer_force(p, y, z, u, stroke[0], stroke[1])
     for k in range(n_sub):
         s0 = k / n_sub
-        x, xd = _hermite(s0 + g / n_sub, h, *stroke)
+        x, xd = hermite(s0 + g / n_sub, h, *stroke)
         y1, z1 = _solve_stage(p, y, z, a, x, xd, v + (u - v) * decay_g)
         ky, kz = (y1 - y) / a, (z1 - z) / a
-        x, xd = _hermite(s0 + 1.0 / n_sub, h, *stroke)
+        x, xd = hermite(s0 + 1.0 / n_sub, h, *stroke)
         u = v + (u - v) * decay
         y, z = _solve_stage(p, y + (1 - g) * dt * ky, z + (1 - g) * dt * kz, a, x, xd, u)
-        xe, xde = _hermite((k + 1) / n_sub, h, *stroke)
-        f_end = _force(p, y, z, u, xe, xde)
+        xe, xde = hermite((k + 1) / n_sub, h, *stroke)
+        f_end = spencer_force(p, y, z, u, xe, xde)
         total += f_end if k < n_sub - 1 else 0.5 * f_end
     return (y, z, u), f_end, total / n_sub
 

@@ -18,8 +18,9 @@ from uavdamp.platform.six_axis import AXES, SixAxisIsolator, output_names, state
 from uavdamp.platform.statespace import discretise, lift, propagate
 
 
-def _grid(time, translation, rotation) -> tuple[np.ndarray, float, np.ndarray]:
-    """(time s, step s, mount coordinates (n, 6)), checked: a uniform grid from any start, (3, n) inputs."""
+def mount_grid(time, translation, rotation) -> tuple[np.ndarray, float, np.ndarray]:
+    """(time s, step s, the mount's coordinates (n, 6)) of a run's time (s, uniform, any start) and translation and
+    rotation ((3, n) m and rad each), checked."""
     t = np.asarray(time, dtype=float)
     if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)):
         raise ValueError(f"time: must be a 1-D finite array of at least 2 samples, got shape {t.shape}")
@@ -58,7 +59,7 @@ def run(
     or (n_semi, n) of values acting from each sample on, or a callable (t_k, outputs_k) -> (n_semi,) called at
     every sample with the outputs (`uavdamp.platform.six_axis.output_names`) there. A scheduled C replaces the
     element's damping along its damper axes (`uavdamp.platform.six_axis.Element`)."""
-    t, h, u = _grid(time, translation, rotation)
+    t, h, u = mount_grid(time, translation, rotation)
     n = t.size
     slopes = np.diff(u, axis=0) / h  # (n - 1, 6), the mount rate on each step
     rates = np.vstack([slopes, slopes[-1:]])  # at each sample: the step starting there (the last: ending there)

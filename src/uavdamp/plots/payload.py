@@ -20,6 +20,13 @@ URAD_PER_RAD = 1e6
 LAW_FILLS = {"six_axis": None, "wire_rope": "none"}  # the laws' markers per mount: filled (gimbal colour), hollow
 HOLLOW_SCALE = 1.5  # a hollow marker's size over a filled one's: a ring around it where the two mounts agree
 LAW_WORDS = {"six_axis": "filled six-axis", "wire_rope": "hollow wire rope"}
+LAW_MARKERS = {  # the law runs' families (`_kind`): marker, size, legend text
+    "skyhook": ("*", 10, "skyhook (x: c_on"),
+    "scheduled": ("D", 6, "scheduled law (x: its mean C)"),
+    "mr_held": ("s", 6, "MR damper at 0 / 2.25 V (x: its C)"),
+    "mr_skyhook": ("P", 8, "MR damper, skyhook (x: C at 2.25 V)"),
+    "mr_scheduled": ("X", 8, "MR damper, scheduled (x: mean C)"),
+}
 ANCHOR_URAD = 175.0  # ±0.01 deg: the angular vibration range gimbal makers quote (DJI)
 FLOOR_URAD = 10.0  # the axes' lower limit: values below it are drawn on it as downward triangles
 COLORS = {"paper_head": "tab:red", "balanced_head": "tab:orange", "gimbal": "tab:blue"}
@@ -38,9 +45,10 @@ LABELS = {
 def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     """LOS rms (µrad, log) against the constant damping C (N s/m, log) per payload (colour) and mount (line
     style), one panel per input (`input`); the rigid mount, which has no damper, is a level line; the gimbal's
-    sensor-noise floor (`floor_los_std`) dash-dotted grey where present; the skyhook runs as stars at their c_on,
-    the scheduled law as a diamond at its mean C (filled on the six-axis isolator, hollow on the wire rope); values
-    below FLOOR_URAD on the axis as downward triangles."""
+    sensor-noise floor (`floor_los_std`) dash-dotted grey where present; the law runs (`LAW_MARKERS`: skyhook
+    stars at their c_on, the scheduled law a diamond at its mean C, the MR damper's runs squares, a plus and a
+    cross) filled on the six-axis isolator, hollow on the wire rope; values below FLOOR_URAD on the axis as
+    downward triangles."""
     inputs = [str(i) for i in ds.input.values]
     ncols = min(3, len(inputs))
     nrows = int(np.ceil(len(inputs) / ncols))
@@ -88,39 +96,52 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     return fig
 
 
+def _kind(law: str) -> str:
+    """The figure's family of a law run: skyhook, scheduled, mr_held, mr_skyhook, mr_scheduled."""
+    if law.startswith("skyhook_"):
+        return "skyhook"
+    return "mr_held" if law in ("mr_off", "mr_on") else law
+
+
 def _laws(ax, ds: xr.Dataset, name) -> None:
-    """The laws of input `name` on each mount they ran on: on-off skyhook as stars at their c_on, the scheduled
-    law as a diamond at its mean C; filled on the six-axis isolator, hollow on the wire rope."""
+    """The laws of input `name` on each mount they ran on (`LAW_MARKERS`), at their c_on (skyhook) or mean C;
+    filled on the six-axis isolator, hollow on the wire rope."""
     if "law_los_std" not in ds:
         return
     x = ds.law_c_on.sel(input=name).values
-    if "law_damping_mean" in ds:  # the scheduled law's x
+    if "law_damping_mean" in ds:  # the x of a law without c_on
         x = np.where(np.isfinite(x), x, ds.law_damping_mean.sel(input=name).values)
-    scheduled = np.array([str(n) == "scheduled" for n in ds.law.values])
+    kinds = np.array([_kind(str(n)) for n in ds.law.values])
     for mount, fill in LAW_FILLS.items():
         if mount not in ds.mount.values:
             continue
         y = np.maximum(ds.law_los_std.sel(input=name, mount=mount).values * URAD_PER_RAD, FLOOR_URAD)
-        for marker, which, size in (("*", ~scheduled, 10), ("D", scheduled, 6)):
-            ax.add_line(_marker(marker, fill, size, x[which], y[which]))
+        for kind, (marker, size, _) in LAW_MARKERS.items():
+            which = (kinds == kind) & np.isfinite(y)
+            if which.any():
+                ax.add_line(_marker(marker, fill, size, x[which], y[which]))
 
 
 def _legend(ds: xr.Dataset) -> tuple[list, list[str]]:
-    """Proxy entries: a colour per payload, a line style per mount, the skyhook runs and the scheduled law (at most
-    9; the anchor and the noise floor lines are labelled on the axes)."""
+    """Proxy entries: a colour per payload, a line style per mount, each family of law runs present (the anchor
+    and the noise floor lines are labelled on the axes)."""
     handles = [Line2D([], [], color=COLORS.get(str(p)), lw=2) for p in ds.payload.values]
     labels = [LABELS.get(str(p), str(p)) for p in ds.payload.values]
     handles += [Line2D([], [], color="0.3", ls=STYLES.get(str(m), "-"), lw=1.3) for m in ds.mount.values]
     labels += [LABELS.get(str(m), str(m)) for m in ds.mount.values]
-    mounts = [m for m in LAW_FILLS if "law_los_std" in ds and m in ds.mount.values]
-    c_off = f"skyhook (x: c_on; c_off {number(float(ds.damping.min()))} N s/m)"
-    for marker, size, text in (("*", 10, c_off), ("D", 6, "scheduled law (x: its mean C)")):
-        if marker == "D" and "scheduled" not in ds.get("law", []):
+    if "law_los_std" not in ds:
+        return handles, labels
+    for kind, (marker, size, text) in LAW_MARKERS.items():
+        names = [str(n) for n in ds.law.values if _kind(str(n)) == kind]
+        mounts = [
+            m for m in LAW_FILLS if m in ds.mount.values and np.isfinite(ds.law_los_std.sel(mount=m, law=names)).any()
+        ]
+        if not mounts:
             continue
-        marks = [_marker(marker, LAW_FILLS[m], size) for m in mounts]
-        if marks:
-            handles.append(tuple(marks))
-            labels.append(f"gimbal, {text}:\n{' / '.join(LAW_WORDS[m] for m in mounts)}")
+        if kind == "skyhook":
+            text = f"{text}; c_off {number(float(ds.damping.min()))} N s/m)"
+        handles.append(tuple(_marker(marker, LAW_FILLS[m], size) for m in mounts))
+        labels.append(f"gimbal, {text}:\n{' / '.join(LAW_WORDS[m] for m in mounts)}")
     return handles, labels
 
 

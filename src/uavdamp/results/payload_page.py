@@ -53,7 +53,7 @@ def payload_findings(ds: xr.Dataset) -> list[str]:
         )
         if "input_rotation_rms" in ds and float(ds.input_rotation_rms.sel(input=i)) == 0.0:
             text += "; this input does not rotate the mount, so a balanced camera sees none of it"
-        out.append(text + "." + _skyhook_finding(ds, i) + _detrended_finding(ds, i))
+        out.append(text + "." + _skyhook_finding(ds, i) + _mr_finding(ds, i) + _detrended_finding(ds, i))
     return out
 
 
@@ -88,8 +88,25 @@ def _detrended_finding(ds: xr.Dataset, name) -> str:
 
 
 def _skyhook(law: xr.DataArray) -> xr.DataArray:
-    """The skyhook runs of a per-law variable: every law but ``scheduled``."""
-    return law.isel(law=[k for k, n in enumerate(law.law.values) if str(n) != "scheduled"])
+    """The ideal dampers' skyhook runs of a per-law variable (skyhook_C)."""
+    return law.isel(law=[k for k, n in enumerate(law.law.values) if str(n).startswith("skyhook_")])
+
+
+def _mr_finding(ds: xr.Dataset, name) -> str:
+    """The MR damper's runs on the six-axis isolator against the gimbal's best constant C there ('' without)."""
+    if "law_los_std" not in ds or "mr_off" not in ds.law.values or "six_axis" not in _law_mounts(ds, name):
+        return ""
+    laws = ds.law_los_std.sel(input=name, mount="six_axis")
+    best = float(ds.los_std.sel(input=name, payload="gimbal", mount="six_axis").min())
+    words = {"mr_off": "held at 0 V", "mr_on": "at 2.25 V", "mr_skyhook": "under skyhook", "mr_scheduled": "scheduled"}
+    values = {n: float(laws.sel(law=n)) for n in words if n in ds.law.values}
+    parts = [f"{words[n]} {fmt(v * 1e6, 3)} µrad ({signed(100 * (v / best - 1), 2)} %)" for n, v in values.items()]
+    lo, hi = (float(ds.law_damping_mean.sel(input=name, law=n)) for n in ("mr_off", "mr_on"))
+    return (
+        f" An MR damper on each element (c_eq {fmt(lo, 2)}-{fmt(hi, 2)} N s/m at the reference stroke): "
+        + ", ".join(parts)
+        + ", against the best constant C."
+    )
 
 
 def _skyhook_finding(ds: xr.Dataset, name) -> str:

@@ -66,7 +66,7 @@ from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face
     yz_isolator,
 )
 from uavdamp.study.payload_schedule import ScheduleSection, Table
-from uavdamp.study.payload_sections import GimbalSection, SixAxisSection, WireRopeSection
+from uavdamp.study.payload_sections import GimbalSection, MRSection, SixAxisSection, WireRopeSection
 from uavdamp.study.payload_table import TableSection
 from uavdamp.study.payload_table import check as check_table
 
@@ -95,6 +95,7 @@ class PayloadSection:
     gimbal: GimbalSection = setting(default=GimbalSection())
     six_axis: SixAxisSection = setting(default=SixAxisSection())
     wire_rope: WireRopeSection = setting(default=WireRopeSection())  # the mount wire_rope: six_axis, Bouc-Wen
+    mr: MRSection = setting(default=MRSection())  # MR dampers on the six-axis isolator's elements (six_axis_force)
     schedule: ScheduleSection = setting(default=ScheduleSection())  # the scheduled law (payload_schedule)
     table: TableSection = setting(default=TableSection())  # the closed-form table of the best C (payload_table)
 

@@ -23,9 +23,11 @@ import numpy as np
 
 from uavdamp.camera.criteria import window_mask
 from uavdamp.contract import MountMotion
+from uavdamp.damping.dampers import V_MAX
 from uavdamp.damping.laws import Skyhook
 from uavdamp.platform.six_axis import DOFS, SixAxisIsolator, strokes_matrix
 from uavdamp.platform.six_axis_run import run
+from uavdamp.study import payload_mr
 from uavdamp.study.payload_runs import (
     METRICS,
     SIX_AXIS_MOUNTS,
@@ -142,21 +144,36 @@ def _mount_laws(section, mount: str, t: np.ndarray, moved: MountMotion, per_samp
 
 def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
     """Per mount of the section and law, the gimbal on that mount under the gridded input: every metric of
-    `payload_runs.METRICS` and ``on_fraction`` (mount, law), NaN on a mount without laws (not in `law_mounts`);
-    ``c_on`` and ``damping_mean`` (law,) (N s m-1; NaN where a law has none); ``name`` (law,): the skyhook runs of
-    `law_names`, then ``scheduled`` (`uavdamp.study.payload_schedule`) when the setup has a payload table, its
-    decisions as ``schedule`` (a `Schedule`, the same on every mount); {} without laws. `setup`: the payload
-    comparison's. Every law body of every mount feeds the gimbal side by side."""
+    `payload_runs.METRICS` and ``on_fraction`` (mount, law), NaN where a law has no run (a mount not in
+    `law_mounts`; the MR runs on a mount but six_axis); ``c_on`` and ``damping_mean`` (law,) (N s m-1; NaN where a
+    law has none); ``name`` (law,): the skyhook runs of `law_names`, then ``scheduled``
+    (`uavdamp.study.payload_schedule`) when the setup has a payload table, its decisions as ``schedule`` (a
+    `Schedule`, the same on every mount), then the MR damper's runs on the six-axis isolator
+    (`uavdamp.study.payload_mr`) with ``payload.mr.enabled``; {} without laws. `setup`: the payload comparison's.
+    Every law body of every mount feeds the gimbal side by side."""
     s = setup.section
     if not law_c_on(s):
         return {}
     plan = schedule(t, moved, setup.table, s.schedule) if setup.table is not None else None
+    per_sample = None if plan is None else plan.per_sample
     names = law_names(s) + ["scheduled"] * (plan is not None)
+    c_on, mean = law_c_on(s) + [math.nan] * (plan is not None), [math.nan] * len(names)
+    if plan is not None:
+        mean[-1] = float(np.mean(per_sample[window_mask(t, s.settle_s, s.duration_s)]))
     cells, bodies, shares = [], [], []
     for mount in law_mounts(s):
-        found, on = _mount_laws(s, mount, t, moved, None if plan is None else plan.per_sample)
+        found, on = _mount_laws(s, mount, t, moved, per_sample)
         cells += [(s.mounts.index(mount), k) for k in range(len(names))]
         bodies, shares = bodies + found, shares + on
+    if s.mr.enabled and "six_axis" in law_mounts(s):
+        h = float(t[1] - t[0])
+        on_off = Skyhook(V_MAX, 0.0, h)  # the voltage's on-off law
+        skyhook = skyhook_schedule(isolator(s, "six_axis", s.c_off), t, _mount_rates(t, moved), on_off)
+        found, rows = payload_mr.mr_motions(s, t, moved, skyhook, per_sample)
+        cells += [(s.mounts.index("six_axis"), len(names) + k) for k in range(len(found))]
+        names += payload_mr.mr_names(s, plan is not None)
+        bodies, shares = bodies + found, shares + [r["on_fraction"] for r in rows]
+        c_on, mean = c_on + [r["c_on"] for r in rows], mean + [r["damping_mean"] for r in rows]
     errors = s.gimbal.sensor_errors
     series = gimbal_series(setup.gimbal, setup.gains, t, bodies, setup.lever, sensor_errors=errors, seed=s.seed)
     out = {name: np.full((len(s.mounts), len(names)), math.nan) for name in (*METRICS, "on_fraction")}
@@ -164,16 +181,14 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
         for name, value in run_metrics(t, found, setup.camera, s.settle_s, s.duration_s).items():
             out[name][cell] = value
         out["on_fraction"][cell] = on
-    out["c_on"] = np.array(law_c_on(s) + [math.nan] * (plan is not None))
-    out["damping_mean"] = np.full(len(names), math.nan)
-    if plan is not None:
-        out["damping_mean"][-1] = float(np.mean(plan.per_sample[window_mask(t, s.settle_s, s.duration_s)]))
-    return out | {"name": np.array(names)} | ({"schedule": plan} if plan is not None else {})
+    out |= {"c_on": np.array(c_on), "damping_mean": np.array(mean), "name": np.array(names)}
+    return out | ({"schedule": plan} if plan is not None else {})
 
 
 def _on_mounts(attrs: dict) -> dict:
     """A law metric's attributes, its long name saying where it is NaN."""
-    return attrs | {"long_name": f"{attrs['long_name']} (NaN: a mount without laws, rigid or Y-Z)"}
+    where = "NaN: no such run on this mount (rigid and Y-Z have none; the MR runs are six_axis's)"
+    return attrs | {"long_name": f"{attrs['long_name']} ({where})"}
 
 
 def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
@@ -185,19 +200,25 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
     data["law_on_fraction"] = (
         ("mount", "law"),
         values["on_fraction"],
-        _on_mounts({"units": "1", "long_name": "share of element-steps at c_on (skyhook)"}),
+        _on_mounts({"units": "1", "long_name": "share of element-steps at c_on (skyhook; mr_skyhook: at 2.25 V)"}),
     )
-    data["law_c_on"] = (("law",), values["c_on"], {"units": "N s m-1", "long_name": "skyhook's on damping"})
-    data["law_damping_mean"] = (
+    data["law_c_on"] = (
         ("law",),
-        values["damping_mean"],
-        {"units": "N s m-1", "long_name": "scheduled law's mean damping over the settled window"},
+        values["c_on"],
+        {"units": "N s m-1", "long_name": "skyhook's on damping (mr_skyhook: the MR damper's at 2.25 V)"},
     )
+    text = (
+        "the law's mean damping over the settled window: the scheduled law's C; mr_off, mr_on: the MR damper's "
+        "equivalent damping at its voltage; mr_scheduled: its C clamped to the MR damper's range (MR: at the "
+        "reference stroke)"
+    )
+    data["law_damping_mean"] = (("law",), values["damping_mean"], {"units": "N s m-1", "long_name": text})
     lag = f", damper lag {section.skyhook_lag:g} s" if section.skyhook_lag > 0 else ", ideal damper"
     text = (
         "semi-active law on a six-axis isolator's elements (six_axis, wire_rope), the gimbal on it: on-off skyhook "
         f"between c_on and c_off {section.c_off:g} N s m-1{lag}; scheduled: C from the tracked lines through the "
-        "payload table"
+        "payload table; mr_*: a Spencer MR damper along each element's x, y, z (payload.mr; six_axis only), held "
+        "at 0 or 2.25 V, on-off skyhook on the voltage, or the scheduled law's C as a voltage"
     )
     coords = {"law": ("law", [str(n) for n in values["name"]], {"units": "1", "long_name": text})}
     if "schedule" in values:

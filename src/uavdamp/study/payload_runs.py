@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -29,7 +30,8 @@ from uavdamp.camera.image_quality import frame_summary, frames_from_image_path
 from uavdamp.camera.optics import CameraModel, image_displacement_px
 from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Constant
-from uavdamp.platform import wire_rope
+from uavdamp.damping.mr_batch import SpencerBatch
+from uavdamp.platform import six_axis_force, wire_rope
 from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia
 from uavdamp.platform.gimbal_sim import simulate_many
 from uavdamp.platform.six_axis import (
@@ -200,6 +202,18 @@ def hysteretic_law_motions(section, c: float, schedules: list, time: np.ndarray,
     states, _, _, applied = wire_rope.integrate_scheduled(
         found, section.wire_rope.params(), time, u[:, :3].T, u[:, 3:].T, schedules
     )
+    return [_state_motion(found, w, u, float(time[1] - time[0])) for w in states], applied
+
+
+def mr_law_motions(section, params, max_substep: float, schedules: list, time: np.ndarray, mount: MountMotion):
+    """(the payload on the six-axis isolator with a Spencer MR damper (`params`, a `SpencerParams`; its sub-step
+    max_substep s) along each element's x, y, z under each of `schedules` of command voltages (arrays or callables,
+    V: `uavdamp.platform.six_axis_force.integrate`), side by side, as `BodyMotion`s; the applied voltages
+    (B, n, n_semi))."""
+    found = six_axis_isolator(section, 0.0)
+    u = _coordinates(mount)
+    dampers = partial(SpencerBatch, params, max_substep=max_substep)
+    states, _, applied, _ = six_axis_force.integrate(found, dampers, time, u[:, :3].T, u[:, 3:].T, schedules)
     return [_state_motion(found, w, u, float(time[1] - time[0])) for w in states], applied
 
 

@@ -1,6 +1,6 @@
 """The payload stage's config sections for the gimbal (``payload.gimbal``), the six-axis isolator
-(``payload.six_axis``) and its wire-rope elements (``payload.wire_rope``), SI units; `uavdamp.study.payload`
-holds the section ``payload`` that carries them."""
+(``payload.six_axis``), its wire-rope elements (``payload.wire_rope``) and its MR dampers (``payload.mr``), SI
+units; `uavdamp.study.payload` holds the section ``payload`` that carries them."""
 
 from __future__ import annotations
 
@@ -96,3 +96,21 @@ class WireRopeSection:
             self.params()
         except ValueError as error:  # its messages name payload.wire_rope.<key>
             raise ConfigError(str(error)) from None
+
+
+@dataclass(frozen=True)
+class MRSection:
+    """The Spencer MR dampers on the six-axis isolator's elements (``payload.mr``; `uavdamp.platform.six_axis_force`):
+    the published damper scaled (`uavdamp.damping.dampers.SpencerParams.for_platform`) to span
+    ``damping_range_n_s_m`` (equivalent damping at 0 V and 2.25 V at the reference stroke, 8 Hz and 0.05 m/s: the
+    benchmark's)."""
+
+    enabled: bool = setting(default=True)  # run the MR dampers beside the ideal ones
+    damping_range: tuple[float, ...] = setting("damping_range_n_s_m", default=(1.0, 6.0), length=2)  # N s m-1
+    max_substep: float = setting("max_substep_s", default=5.0e-4)  # s, the Spencer model's internal sub-step
+
+    def validate(self, where: str) -> None:
+        lo, hi = self.damping_range
+        require(0 < lo < hi, f"{where}.damping_range_n_s_m", f"need 0 < c_off < c_on N s m-1, got {[lo, hi]}")
+        ok = math.isfinite(self.max_substep) and self.max_substep > 0
+        require(ok, f"{where}.max_substep_s", f"must be > 0, got {self.max_substep}")
