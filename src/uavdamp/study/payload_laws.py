@@ -53,16 +53,18 @@ def skyhook_schedule(
     step's damping impulse), which is d_k for lag_s 0. The damper starts settled on the first demand."""
     n_el, t0, h = isolator.n_elements, float(time[0]), float(time[1] - time[0])
     semi = np.array(isolator.semi_active, dtype=int)
-    at_elements = strokes_matrix(isolator)  # (3 n_el, 6): a 6-DOF motion's translation at each element
+    # (n, n_semi, 3): the mount's velocity at each semi-active element, every sample (a 6-DOF motion's translation
+    # at the elements: `strokes_matrix`)
+    at_mount = (np.asarray(mount_rates) @ strokes_matrix(isolator).T).reshape(-1, n_el, 3)[:, semi]
     decay = math.exp(-h / lag_s) if lag_s > 0 else 0.0
     mean_share = (1.0 - decay) * lag_s / h if lag_s > 0 else 0.0  # of the start's distance to the demand
     state: dict[str, np.ndarray] = {}
 
     def decide(t_k: float, outputs: np.ndarray) -> np.ndarray:
-        k = int(round((t_k - t0) / h))
-        v_rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)
-        v_abs = v_rel + (at_elements @ mount_rates[k]).reshape(n_el, 3)
-        demand = law.decide_rows(v_abs[semi], v_rel[semi])
+        v_rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)[semi]
+        demand = law.decide_rows(v_rel + at_mount[int(round((t_k - t0) / h))], v_rel)
+        if lag_s == 0:
+            return demand
         start = state.get("c", demand)  # C(t_k); the first sample: settled on its demand
         state["c"] = demand + (start - demand) * decay
         return demand + (start - demand) * mean_share
