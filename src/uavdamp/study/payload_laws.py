@@ -144,6 +144,16 @@ def _mount_laws(section, mount: str, t: np.ndarray, moved: MountMotion, per_samp
     return bodies, shares + [math.nan] * (per_sample is not None)
 
 
+def _mr_laws(section, t: np.ndarray, moved: MountMotion, per_sample) -> tuple[list, list[dict]]:
+    """`payload_mr.mr_motions` with its skyhook on the voltage (2.25 V or 0 V by Karnopp's rule on the six-axis
+    isolator's elements); ([], []) without ``payload.mr.enabled`` or the six_axis mount."""
+    if not (section.mr.enabled and "six_axis" in law_mounts(section)):
+        return [], []
+    on_off = Skyhook(V_MAX, 0.0, float(t[1] - t[0]))
+    skyhook = skyhook_schedule(isolator(section, "six_axis", section.c_off), t, _mount_rates(t, moved), on_off)
+    return payload_mr.mr_motions(section, t, moved, skyhook, per_sample)
+
+
 def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray]:
     """Per mount of the section and law, the gimbal on that mount under the gridded input: every metric of
     `payload_runs.METRICS` and ``on_fraction`` (mount, law), NaN where a law has no run (a mount not in
@@ -167,15 +177,11 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
         found, on = _mount_laws(s, mount, t, moved, per_sample)
         cells += [(s.mounts.index(mount), k) for k in range(len(names))]
         bodies, shares = bodies + found, shares + on
-    if s.mr.enabled and "six_axis" in law_mounts(s):
-        h = float(t[1] - t[0])
-        on_off = Skyhook(V_MAX, 0.0, h)  # the voltage's on-off law
-        skyhook = skyhook_schedule(isolator(s, "six_axis", s.c_off), t, _mount_rates(t, moved), on_off)
-        found, rows = payload_mr.mr_motions(s, t, moved, skyhook, per_sample)
-        cells += [(s.mounts.index("six_axis"), len(names) + k) for k in range(len(found))]
-        names += payload_mr.mr_names(s, plan is not None)
-        bodies, shares = bodies + found, shares + [r["on_fraction"] for r in rows]
-        c_on, mean = c_on + [r["c_on"] for r in rows], mean + [r["damping_mean"] for r in rows]
+    found, rows = _mr_laws(s, t, moved, per_sample)
+    cells += [(s.mounts.index("six_axis"), len(names) + k) for k in range(len(found))]
+    names += payload_mr.mr_names(s, plan is not None) if found else []
+    bodies, shares = bodies + found, shares + [r["on_fraction"] for r in rows]
+    c_on, mean = c_on + [r["c_on"] for r in rows], mean + [r["damping_mean"] for r in rows]
     errors = s.gimbal.sensor_errors
     series = gimbal_series(setup.gimbal, setup.gains, t, bodies, setup.lever, sensor_errors=errors, seed=s.seed)
     out = {name: np.full((len(s.mounts), len(names)), math.nan) for name in (*METRICS, "on_fraction")}
