@@ -46,7 +46,7 @@ class BatchDamper(Protocol):
 
 
 def damper_axes(isolator: SixAxisIsolator) -> list[tuple[int, int]]:
-    """(semi-active element's index among the semi-active ones, axis index) of every MR damper, element-major."""
+    """(semi-active element's index among the semi-active ones, axis index) of every damper, element-major."""
     return [
         (j, AXES.index(a))
         for j, i in enumerate(isolator.semi_active)

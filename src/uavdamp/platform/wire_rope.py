@@ -18,7 +18,8 @@ six-axis run's exact step map). z is advanced in the stroke: Bouc-Wen is rate-in
 s') with phi = A - (beta sign(s') sign(z) + gamma) |z|^n, so over a step z_{k+1} = z_k + the integral of phi ds
 over the step's stroke increment, taken by Heun's rule (second order in the increment over z_max; exact while
 phi = A). The increment depends on e_{k+1} through the states: a fixed-point iteration (`ITERATIONS`) finds both.
-A stroke reversal inside a step is taken at the step's end.
+A stroke reversal inside a step is taken at the step's end. A damping schedule (`integrate_scheduled`: a semi-active
+law's C) is held over each step, the step map that of its C, built once per distinct C.
 """
 
 from __future__ import annotations
@@ -177,7 +178,7 @@ def integrate_scheduled(
     applied = np.full((len(schedules), n, n_semi), np.nan)
     bank = _Bank(isolator, wire, h)
 
-    def choose(k: int, w_k: np.ndarray) -> np.ndarray:
+    def choose(k: int, w_k: np.ndarray) -> list:
         y = w_k @ outputs.c.T + u[k] @ outputs.du.T + rates[k] @ outputs.dv.T
         found = []
         for b, (schedule, plan) in enumerate(zip(schedules, plans, strict=True)):
