@@ -75,16 +75,6 @@ def test_the_batch_is_the_scalar_damper_axis_by_axis(max_substep, variant):
     np.testing.assert_allclose(batch.u, [d.u[0] for d in scalar], rtol=0, atol=1e-15)
 
 
-def test_save_and_restore_return_the_batch_to_its_state():
-    x, xd = _strokes(3, 2)
-    batch = SpencerBatch(PARAMS, 3)
-    batch.step(H, V_MAX, x[0], xd[0], x[1], xd[1])
-    saved = batch.save()
-    first = batch.step(H, V_MAX, x[1], xd[1], x[2], xd[2])
-    batch.restore(saved)
-    np.testing.assert_array_equal(batch.step(H, V_MAX, x[1], xd[1], x[2], xd[2])[0], first[0])
-
-
 def test_a_newton_that_cannot_converge_fails_naming_the_damper(monkeypatch):
     monkeypatch.setattr("uavdamp.damping.mr_batch.MAX_NEWTON", 1)
     x, xd = _strokes(2, 1)

@@ -35,12 +35,6 @@ class SpencerBatch:
         self.y = np.broadcast_to(np.asarray(x0, dtype=float), (self.n,)).copy()
         self.z, self.u = np.zeros(self.n), np.zeros(self.n)
 
-    def save(self) -> tuple[np.ndarray, ...]:
-        return self.y.copy(), self.z.copy(), self.u.copy()
-
-    def restore(self, state) -> None:
-        self.y, self.z, self.u = (s.copy() for s in state)
-
     def force(self, x, xd) -> np.ndarray:
         """F (N, (n,)) at the present states for the strokes x (m) and rates xd (m s-1)."""
         return spencer_force(self.params, self.y, self.z, self.u, np.asarray(x, float), np.asarray(xd, float))
@@ -60,27 +54,24 @@ class SpencerBatch:
         total = 0.5 * (self.force(x0, xd0) if start_force is None else start_force)
         for k in range(n_sub):
             x, xd = hermite((k + g) / n_sub, h, *stroke)
-            y1, z1, _ = _solve_stage(p, y, z, a, x, xd, p.coefficients(v + (u - v) * decay_g))
+            y1, z1 = _solve_stage(p, y, z, a, x, xd, v + (u - v) * decay_g)
             ky, kz = (y1 - y) / a, (z1 - z) / a
             x, xd = hermite((k + 1) / n_sub, h, *stroke) if k < n_sub - 1 else stroke[2:]
             u = v + (u - v) * decay
-            y, z, coefficients = _solve_stage(
-                p, y + (1 - g) * dt * ky, z + (1 - g) * dt * kz, a, x, xd, p.coefficients(u)
-            )
-            alpha, c0, c1 = coefficients
-            f_end = c1 * (alpha * z + c0 * xd + p.k0 * (x - y)) / (c0 + c1) + p.k1 * (x - p.x0)  # `spencer_force`
+            y, z = _solve_stage(p, y + (1 - g) * dt * ky, z + (1 - g) * dt * kz, a, x, xd, u)
+            f_end = spencer_force(p, y, z, u, x, xd)
             total = total + (f_end if k < n_sub - 1 else 0.5 * f_end)
         self.y, self.z, self.u = y, z, u
         return f_end, total / n_sub
 
 
-def _solve_stage(p: SpencerParams, r_y, r_z, a: float, x, xd, coefficients, tol: float = 1e-7):
-    """(y, z, coefficients) with (y, z) = (r_y, r_z) + a (y', z') for every damper (`dampers._solve_stage`) at the
-    filtered command's `coefficients` (`SpencerParams.coefficients`): y eliminated, Newton in z for all dampers
+def _solve_stage(p: SpencerParams, r_y, r_z, a: float, x, xd, u, tol: float = 1e-7):
+    """(y, z) with (y, z) = (r_y, r_z) + a (y', z') for every damper (`dampers._solve_stage`) at the filtered
+    command u (V): y eliminated, Newton in z for all dampers
     together until every damper's step is within tol z_max. Newton converges quadratically here, so the step after
     one of 1e-7 z_max would be near 1e-14 z_max, within the scalar scheme's 1e-13 z_max: this stops one iteration
     before it, at its root to rounding (`tests/test_mr_batch.py`)."""
-    alpha, c0, c1 = coefficients
+    alpha, c0, c1 = p.coefficients(u)
     den = c0 + c1 + a * p.k0
     m = alpha / den
     q = ((c0 + c1) * r_y + a * (c0 * xd + p.k0 * x)) / den
@@ -97,6 +88,6 @@ def _solve_stage(p: SpencerParams, r_y, r_z, a: float, x, xd, coefficients, tol:
         step = (z - r_z - a * g) / (1.0 - a * (dg_dz - m * dg_dw))
         z -= step
         if np.abs(step).max() <= scale:
-            return q + a * m * z, z, coefficients
+            return q + a * m * z, z
     worst = float(np.max(np.abs(step)))
     raise SolverFailed(f"Spencer MR damper: Newton did not converge in {MAX_NEWTON} iterations (|dz| = {worst:.3g})")

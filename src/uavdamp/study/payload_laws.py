@@ -179,7 +179,7 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
         bodies, shares = bodies + found, shares + on
     found, rows = _mr_laws(s, t, moved, per_sample)
     cells += [(s.mounts.index("six_axis"), len(names) + k) for k in range(len(found))]
-    names += payload_mr.mr_names(s, plan is not None) if found else []
+    names += payload_mr.mr_names(plan is not None) if found else []
     bodies, shares = bodies + found, shares + [r["on_fraction"] for r in rows]
     c_on, mean = c_on + [r["c_on"] for r in rows], mean + [r["damping_mean"] for r in rows]
     errors = s.gimbal.sensor_errors

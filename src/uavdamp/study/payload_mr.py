@@ -46,7 +46,7 @@ def spec(section) -> MRSpec:
     return _spec(tuple(float(c) for c in mr.damping_range), float(mr.max_substep))
 
 
-def mr_names(section, scheduled: bool) -> list[str]:
+def mr_names(scheduled: bool) -> list[str]:
     """The MR runs' names: `MR_LAWS`, mr_scheduled only with the scheduled law."""
     return list(MR_LAWS[:3]) + ["mr_scheduled"] * scheduled
 
