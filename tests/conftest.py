@@ -163,11 +163,12 @@ def _process_state_kept(workdir: Path, argv: list[str]):
 def snakemake_dry(workdir: Path, *args: str) -> subprocess.CompletedProcess:
     """`snakemake -n ARGS` in `workdir` inside this process (Snakemake's own command line, `snakemake.cli.main`):
     the same plan, refusal and output as `snakemake`, without the ~5 s CPU of a new interpreter importing
-    Snakemake, Exudyn and xarray. For dry runs, refusals and --lint only: a run that executes jobs goes through
-    `snakemake`."""
+    Snakemake, Exudyn and xarray. For dry runs, refusals, --lint and --touch (which marks outputs done and runs no
+    job) only: a run that executes jobs goes through `snakemake`."""
     from snakemake import cli
 
-    assert "-n" in args or "--lint" in args, "in-process Snakemake is for dry runs (-n) and --lint only"
+    ok = {"-n", "--lint", "--touch"} & set(args)
+    assert ok, "in-process Snakemake is for dry runs (-n), --lint and --touch only"
     out, err, code = io.StringIO(), io.StringIO(), 0
     with _process_state_kept(workdir, ["snakemake", *args]):
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):

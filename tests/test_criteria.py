@@ -17,7 +17,6 @@ from conftest import (
     displacement_grid,
     load_config,
     planned_rules,
-    snakemake,
     snakemake_dry,
     synthetic_grid,
 )
@@ -142,7 +141,7 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
     or .window reruns the table, the ANFIS and the study; the camera (the blur criterion) reruns the chunks too.
     (--touch records each job's params only while its outputs are missing: touch, create the files, touch.)"""
     work = copy_workflow(tmp_path)
-    assert snakemake(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
+    assert snakemake_dry(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
     result = snakemake_dry(work, "-n", "-j1", "all", "--configfile", "config/quick.yaml")
     outputs = [
         path.strip()
@@ -158,7 +157,7 @@ def test_choosing_another_criterion_reruns_table_anfis_study_not_the_grid(tmp_pa
         target = work / path
         target.parent.mkdir(parents=True, exist_ok=True)
         target.write_text("")
-    assert snakemake(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
+    assert snakemake_dry(work, "-j1", "--touch", "all", "--configfile", "config/quick.yaml").returncode == 0
     assert _planned(work, "config/quick.yaml") == set()
     quick = yaml.safe_load((work / "config" / "quick.yaml").read_text())
     edits = {

@@ -1,5 +1,6 @@
 """The README's report command, run as written after the quick run: the report is made, its first page holds the
-run's findings, and its entries are titled."""
+run's findings, its entries are titled, and it holds every figure of the run with its caption rendered from the
+config."""
 
 from __future__ import annotations
 
@@ -33,3 +34,9 @@ def test_the_readme_report_command_works_after_the_quick_run(quick_run):
     assert "Findings" in report and first.split("** ", 1)[1][:40] in report  # the first page: the findings
     assert "Fig. 10: rigid mount, camera Y" in report  # entries titled, not file paths
     assert '"0 Summary"' not in report and "Summary" in report
+    figures = sorted(p.name for p in (quick_run / "reports-quick/figures").rglob("*.png"))
+    assert len(figures) >= 12, figures
+    missing = [name for name in [*figures, "rules.md"] if name not in report]
+    assert not missing, f"not in the report: {missing}"
+    assert "passive damper (constant C = 2.0 N s/m)" in report  # captions rendered from the config (Jinja)
+    assert "Stages:" in report  # the workflow description page
