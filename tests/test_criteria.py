@@ -445,3 +445,79 @@ def test_table_with_nan_cells_is_nan_where_all_failed_and_finite_elsewhere():
     for name in ("stiffness_opt", "damping_at_stiffness_opt", "criterion_at_stiffness_opt"):
         assert np.isnan(table[name].values[1, 1]) and np.all(np.isfinite(table[name].values.ravel()[:3])), name
     assert np.all(np.isfinite(table.scheduling_gain)) and np.all(np.isfinite(table.damping_best_constant))
+
+
+def test_grid_edge_flags_by_construction():
+    """On C = 1, 2, 4, 8: an optimum at the first or last C is a grid bound (1, 2) unless that C is the damper's own
+    bound (3, inclusive); one step inside is interior (0), no optimum (-1) is 0; int8 flags (CF flag_values)."""
+    c = np.array([1.0, 2.0, 4.0, 8.0])
+    ic = np.array([-1, 0, 1, 2, 3])
+    assert criterion.grid_edge(ic, c, None).tolist() == [0, 1, 0, 0, 2]
+    assert criterion.grid_edge(ic, c, (0.5, 10.0)).tolist() == [0, 1, 0, 0, 2]
+    assert criterion.grid_edge(ic, c, (1.0, 8.0)).tolist() == [0, 3, 0, 0, 3]
+    assert criterion.grid_edge(ic, c, (1.0, 10.0)).tolist() == [0, 3, 0, 0, 2]
+    assert criterion.grid_edge(ic, c, (0.5, 8.0)).tolist() == [0, 1, 0, 0, 3]
+    assert criterion.grid_edge(ic, c, None).dtype == np.int8
+
+
+def test_the_default_flat_band_units_and_edge_share_by_construction():
+    """Criterion 2.4, 2.08, 2.0, 2.1, 3.0 rad over C = 1..16 in one cell and its optimum on the top edge in the
+    other: the default 5 % band is C = 2-8 (2.1 = 1.05 x 2.0, inclusive), the criterion keeps its units, and half
+    the cells are grid bounds."""
+    values = np.ones((1, 1, 2, 5))
+    values[0, 0, 0] = [2.4, 2.08, 2.0, 2.1, 3.0]
+    values[0, 0, 1] = [5.0, 4.0, 3.0, 2.0, 1.0]
+    da = displacement_grid(values)[criterion.variable("displacement")].isel(window=0).reset_coords(drop=True)
+    table = criterion.optimum(da.assign_attrs(units="rad"))
+    assert float(table.damping_flat_min[0, 0, 0]) == 2.0 and float(table.damping_flat_max[0, 0, 0]) == 8.0
+    assert table.criterion_opt.attrs["units"] == "rad"
+    bare = da.copy()
+    bare.attrs = {}
+    assert criterion.optimum(bare).criterion_opt.attrs["units"] == "m"  # no units: the displacement criterion's
+    assert table.optimum_at_grid_edge.values.ravel().tolist() == [0, 2]
+    assert float(table.grid_edge_share) == 0.5
+    bounded = criterion.optimum(da, damper_bounds=(0.5, 16.0))
+    assert bounded.optimum_at_grid_edge.values.ravel().tolist() == [0, 3] and float(bounded.grid_edge_share) == 0.0
+
+
+def test_the_table_keeps_the_windows_criteria_failures_and_bounds():
+    """reference_table over two windows: their start and end coordinates, the criterion coordinate with its CF
+    attributes, the failed points counted (0 without a `failed` variable) and the damper's bounds recorded;
+    select_grid drops the window; the refusals list what the grid and table hold."""
+    values = np.random.default_rng(2).uniform(0.1, 1.0, (2, 2, 3, 2, 2, 4))  # criteria, windows, grid
+    grid = synthetic_grid(values, windows=("transient", "steady"))
+    grid = grid.assign_coords(window_start=("window", [0.0, 0.5]), window_end=("window", [1.0, 1.0]))
+    grid["failed"][0, 0, 0, 0] = 1
+    table = criterion.reference_table(grid, damper_bounds=(0.1, 10.0))
+    assert table.window_start.values.tolist() == [0.0, 0.5] and table.window_end.values.tolist() == [1.0, 1.0]
+    assert table.criterion.attrs == {"units": "1", "long_name": "camera criterion minimised"}
+    assert table.criterion.dtype == object
+    assert table.attrs["n_failed_points"] == 1 and table.attrs["damper_bounds_n_s_m"] == [0.1, 10.0]
+    edge = table.optimum_at_grid_edge.values  # the bounds are the C grid's ends: an edge optimum is the damper's
+    assert np.isin(edge, 3).any() and not np.isin(edge, (1, 2)).any()
+    assert "n_failed_points" in criterion.reference_table(grid.drop_vars("failed")).attrs
+    assert criterion.reference_table(grid.drop_vars("failed")).attrs["n_failed_points"] == 0
+    assert "damper_bounds_n_s_m" not in criterion.reference_table(grid).attrs
+    chosen = criterion.select_grid(grid, "displacement", "steady")
+    assert "window" not in chosen.coords and chosen.dims == ("freq_y", "freq_z", "stiffness", "damping")
+    with pytest.raises(ValueError, match=r"the grid holds no criterion variable \(\['criterion_displacement'"):
+        criterion.reference_table(grid.drop_vars([v for v in grid.data_vars if v.startswith("criterion_")]))
+    with pytest.raises(ValueError, match=r"the grid holds no 'criterion_blur'"):
+        criterion.select_grid(grid, "blur", "steady")
+    with pytest.raises(ValueError, match=r"'nope' is not one of \['displacement'"):
+        criterion.check_choice("nope", "steady", ["steady"])
+    with pytest.raises(ValueError, match=r"'late' is not one of reference_table.windows \['transient', 'steady'\]"):
+        criterion.check_choice("displacement", "late", ["transient", "steady"])
+    with pytest.raises(ValueError, match=r"'blur' is not in the table \(\['displacement', 'line_of_sight'\]\)"):
+        criterion.select_table(table, "blur", "steady")
+
+
+def test_window_steps_are_the_run_grids_samples_inside_the_window():
+    """A 1 s run on a 0.1 s grid has samples 0..10; [0.3, 0.4] holds 3 and 4 (two samples: enough), [0.35, 0.4]
+    only 4 (refused, naming the window); the whole run holds all 11."""
+    from uavdamp.reference_table.sine_batch import window_steps
+
+    assert window_steps(1.0, (0.3, 0.4), 0.1).tolist() == [3, 4]
+    assert window_steps(1.0, (0.0, 1.0), 0.1).tolist() == list(range(11))
+    with pytest.raises(ValueError, match=r"window \[0.35, 0.4\] s holds fewer than 2 samples"):
+        window_steps(1.0, (0.35, 0.4), 0.1)

@@ -221,3 +221,130 @@ def test_response_shape_is_checked():
     time = _time(2, 1e-4)
     with pytest.raises(ValueError, match=r"camera_displacement must be \(axis=\(y, z\), time\)"):
         iq.image_metrics(time, np.zeros((3, time.size)), np.zeros_like(time), np.zeros_like(time), CAM)
+
+
+def test_the_linear_fit_is_weighted_least_squares_and_its_residual_the_principal_axis():
+    """Per frame, the slope is the trapezoid-weighted least-squares line through the exposure's points and sigma^2
+    the largest eigenvalue of the weighted covariance of the residuals, both computed here independently (numpy's
+    weighted polyfit and eigvalsh) on random uneven sample times."""
+    rng = np.random.default_rng(3)
+    tau = np.sort(rng.uniform(0.0, 1.0, size=(5, 7)), axis=1)
+    points = rng.normal(size=(5, 7, 2)) + 4.0 * tau[..., None] * np.array([1.0, -2.0])
+    slope, sigma = iq._linear_fit(tau, points)
+    for k in range(5):
+        seg = np.diff(tau[k])
+        w = np.concatenate([seg, [0.0]]) / 2 + np.concatenate([[0.0], seg]) / 2
+        fits = [np.polyfit(tau[k], points[k, :, i], 1, w=np.sqrt(w)) for i in range(2)]
+        assert slope[k] == pytest.approx([fits[0][0], fits[1][0]], rel=1e-9)
+        r = points[k] - np.stack([np.polyval(f, tau[k]) for f in fits], axis=1)
+        cov = (w[:, None, None] * r[:, :, None] * r[:, None, :]).sum(axis=0) / w.sum()
+        assert sigma[k] == pytest.approx(np.sqrt(np.linalg.eigvalsh(cov)[-1]), rel=1e-9)
+
+
+def test_rolling_shutter_skew_of_an_accelerating_image_is_read_from_mid_exposure():
+    """u = b t^2: the first and last rows at mid-exposure (t_k + T / 2 and L (H - 1) later) see the image
+    b ((m + L (H-1))^2 - m^2) apart, m = t_k + T / 2: the skew depends on when it is read, unlike u = r t's."""
+    line, rows, b = 20e-6, 1080, 5000.0
+    cam = _camera(line_time_s=line)
+    time = _time(4, 1e-5)
+    frames = iq.frames_from_image_path(time, b * time**2, np.zeros_like(time), cam)
+    mid = np.arange(3) / FPS + T / 2
+    assert frames.skew_px == pytest.approx(b * ((mid + line * (rows - 1)) ** 2 - mid**2), rel=1e-6)
+
+
+def test_a_frame_spans_the_rows_readout_and_the_exposure():
+    """A window exactly L (H - 1) + T long holds one frame; L (H - 1) + T + 1 / fps - L / 2 still one, since the
+    second frame's last row would end L / 2 after the window."""
+    line = 20e-6
+    cam = _camera(line_time_s=line)
+    time = np.arange(20001) * 1e-5
+    span = line * 1079 + T
+    assert iq.frame_starts(time, cam, start_s=0.1, end_s=0.1 + span).size == 1
+    assert iq.frame_starts(time, cam, start_s=0.1, end_s=0.1 + span + 1 / FPS - line / 2).size == 1
+    assert iq.frame_starts(time, cam, start_s=0.1, end_s=0.1 + span + 1 / FPS).size == 2
+    with pytest.raises(ValueError, match="shorter than one frame"):
+        iq.frame_starts(time, cam, start_s=0.1, end_s=0.1 + span - line)
+
+
+def test_the_record_and_window_checks_at_their_edges():
+    """Two samples make a record; equal times, a step spread of 1e-5 of the step, an empty window or one starting
+    more than 1e-9 of a step before the record are refused; the messages name the series and the record."""
+    iq._check_time(np.array([0.0, 1e-3]))
+    with pytest.raises(ValueError, match="strictly increasing"):
+        iq._check_time(np.zeros(3))
+    with pytest.raises(ValueError, match="strictly increasing"):
+        iq._check_time(np.array([0.0, 1e-3, 2e-3 + 1e-8]))
+    t = 5.0 + np.arange(11) * 1e-3
+    assert iq._span(t, 5.0 - 0.5e-12, None) == (5.0 - 0.5e-12, float(t[-1]))
+    with pytest.raises(ValueError, match=r"must lie within the record \[5.0, 5.01\] s"):
+        iq._span(t, 5.0 - 1.5e-12, None)
+    with pytest.raises(ValueError, match="must lie within the record"):
+        iq._span(t, 5.004, 5.004)
+    bad, good = np.array([0.0, np.nan, 0.0]), np.zeros(3)
+    time = np.arange(3) * 1e-3
+    for call, names in (
+        (lambda y, p: iq.camera_criteria(["los_std"], time, np.zeros((2, 3)), y, p), ("camera_yaw", "camera_pitch")),
+        (lambda y, p: iq.line_of_sight_stats(time, y, p), ("yaw", "pitch")),
+        (lambda y, p: iq.frames_from_image_path(time, y, p, CAM), ("u_px", "v_px")),
+    ):
+        for args, name in (((bad, good), names[0]), ((good, bad), names[1])):
+            with pytest.raises(ValueError, match=rf"^{name} holds non-finite values"):
+                call(*args)
+
+
+def test_camera_criteria_windows_need_two_samples_and_frames_a_camera():
+    """A window of exactly two samples is scored; the frame criteria name themselves when no camera is given; the
+    unsharp fraction reads the camera's sharp threshold."""
+    time = _time(6, 1e-4)
+    _, disp, yaw, pitch = _response(time, yaw=0.05 * time)
+    two = iq.camera_criteria(["los_std"], time, disp, yaw, pitch, start_s=time[3], end_s=time[4])
+    assert two["los_std"] == pytest.approx(0.05 * 1e-4 / 2, rel=1e-6)
+    with pytest.raises(ValueError, match=r"fewer than 2 samples"):
+        iq.camera_criteria(["los_std"], time, disp, yaw, pitch, start_s=time[3], end_s=time[3] + 0.5e-4)
+    with pytest.raises(ValueError, match=r"criteria \['blur_p95'\] need a camera"):
+        iq.camera_criteria(["los_std", "blur_p95"], time, disp, yaw, pitch)
+    sharp = iq.camera_criteria(["unsharp_fraction"], time, disp, yaw, pitch, camera=_camera(sharp_threshold_px=0.3))
+    assert sharp["unsharp_fraction"] == 1.0  # every frame smears F 0.05 T = 0.41 px
+    assert iq.camera_criteria(["unsharp_fraction"], time, disp, yaw, pitch, camera=CAM)["unsharp_fraction"] == 0.0
+
+
+def test_the_summary_percentiles_and_a_single_frames_jitter():
+    """Path lengths and skews 0..99 px: their 95th percentiles are numpy's (94.05); one frame has no jitter."""
+    n = 100
+    frames = iq.Frames(
+        start_s=np.arange(n) / FPS, blur_px=np.ones(n), path_px=np.arange(n, dtype=float),
+        centroid_px=np.zeros((n, 2)), smear_px=np.ones(n), sigma_px=np.zeros(n), mtf_nyquist=np.ones(n),
+        skew_px=np.arange(n, dtype=float)[::-1],
+    )  # fmt: skip
+    summary = iq.frame_summary(frames, 1.0)
+    assert summary["blur_path_p95"][0] == summary["rolling_shutter_skew_p95"][0] == pytest.approx(94.05)
+    one = iq.Frames(*(np.asarray(getattr(frames, f))[:1] for f in iq.Frames._fields))
+    assert math.isnan(iq.frame_summary(one, 1.0)["frame_jitter_rms"][0])
+
+
+def test_image_metrics_pass_the_window_to_both_halves():
+    """image_metrics over [start, end] is line_of_sight_stats and frame_summary of frame_metrics over it."""
+    time = _time(8, 1e-4)
+    response = _response(time, yaw=2e-3 * np.sin(2 * np.pi * 3 * time), pitch=0.05 * time)
+    out = iq.image_metrics(*response, CAM, start_s=0.05, end_s=0.2)
+    los = iq.line_of_sight_stats(time, response[2], response[3], 0.05, 0.2)
+    frames = iq.frame_metrics(*response, CAM, 0.05, 0.2)
+    assert out == {**los, **iq.frame_summary(frames, CAM.sharp_threshold_px)}
+    assert frames.start_s == pytest.approx(0.05 + np.arange(4) / FPS)
+    assert los["los_yaw_std"][0] != iq.line_of_sight_stats(time, response[2], response[3], None, 0.2)["los_yaw_std"][0]
+
+
+def test_the_batched_exposure_weights_are_the_frames_points_under_a_rolling_shutter():
+    """`reference_table.sine_batch.exposure_weights` maps the image path to the exposure points of each frame:
+    with a 20 us line time, their extent is `frames_from_image_path`'s blur frame by frame, on a random path."""
+    from uavdamp.reference_table.sine_batch import exposure_weights
+
+    cam = _camera(line_time_s=20e-6)
+    time = np.arange(3001) * 1e-4
+    path = np.cumsum(np.random.default_rng(4).normal(size=(time.size, 2)), axis=0)
+    weights, samples, shape = exposure_weights(time, cam, (0.01, 0.29))
+    points = (weights @ path[samples]).reshape(*shape, 2)
+    frames = iq.frames_from_image_path(time, path[:, 0], path[:, 1], cam, 0.01, 0.29)
+    assert shape[0] == frames.blur_px.size == 7  # 0.01 + 6 / 25 + 20 us x 1079 + 4 ms = 0.2756 s <= 0.29
+    np.testing.assert_allclose(iq._extent(points), frames.blur_px, rtol=1e-12)
+    np.testing.assert_allclose(points[:, 0], iq._interp(time, path, frames.start_s + 20e-6 * 1079 / 2), rtol=1e-12)

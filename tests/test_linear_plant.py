@@ -393,3 +393,30 @@ def test_plant_at_any_damping_is_the_assembled_one(isolated, stiffness, damping)
     for name in ("a", "b", "c", "du", "dv"):
         want = getattr(assembled, name)
         np.testing.assert_allclose(getattr(fast, name), want, rtol=0, atol=1e-12 * np.abs(want).max())
+
+
+def test_from_params_builds_the_named_mount_and_body():
+    """The isolated full platform by default; mount and body reach the model (lumped: one body on the isolator,
+    rigid: no isolator coordinate)."""
+    params = platform_from(CONFIG)
+    default = LinearPlant.from_params(params)
+    assert default.model.isolated and (default.mount, default.body) == ("isolated", "full")
+    rigid = LinearPlant.from_params(params, mount="rigid")
+    assert not rigid.model.isolated and rigid.mount == "rigid"
+    lumped = LinearPlant.from_params(params, body="lumped")
+    assert lumped.body == "lumped" and len(lumped.model.free) < len(default.model.free)
+
+
+def test_the_caches_stay_bounded_and_answer_as_new(isolated):
+    """70 stiffnesses and 70 dampings, past the caches' 64 entries: each cache holds at most 64, and a state space,
+    step map and lifted map asked again after eviction equal a fresh plant's."""
+    sim, plant = isolated
+    for k in np.linspace(100.0, 1000.0, 70):
+        plant.model.state_space(k, 1.0)
+    for c in np.linspace(1.0, 10.0, 70):
+        plant.step_map(500.0, c)
+        plant._lifted(500.0, c)
+    assert len(plant.model._affine) <= 64 and len(plant._cache) <= 64 and len(plant._lifts) <= 64
+    fresh = LinearPlant(sim.model)
+    np.testing.assert_array_equal(plant.model.state_space(100.0, 2.0).a, fresh.model.state_space(100.0, 2.0).a)
+    np.testing.assert_array_equal(plant.step_map(500.0, 1.0)[1].phi, fresh.step_map(500.0, 1.0)[1].phi)

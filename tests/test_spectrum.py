@@ -331,3 +331,70 @@ def test_band_edges_are_inclusive_for_a_bin_centred_peak():
     assert spectrum.dominant_frequency(x, dt, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
     assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.0, max_freq_hz=20.0, **kw) == pytest.approx(20.0, rel=1e-9)
     assert spectrum.dominant_frequency(x, dt, min_freq_hz=20.25, **kw) > 20.1  # the 20.5 Hz bin, pulled back
+
+
+def test_the_peak_is_the_vertex_of_the_log_parabola_through_three_bins():
+    """An off-bin 7.3 Hz sine (2 s at 100 Hz) beside a weaker 21 Hz one: the peak is the vertex of the parabola
+    through the log Hann amplitudes of the largest bin and its neighbours, on the 8-fold zero-padded grid by
+    default, all computed here with numpy's FFT alone; a 0.4 Hz line is found with the default band."""
+    dt, n = 0.01, 200
+    t = np.arange(n) * dt
+    x = np.sin(2 * np.pi * 7.3 * t + 0.4) + 0.3 * np.sin(2 * np.pi * 21.0 * t)
+    window = np.hanning(n)
+    amp = np.abs(np.fft.rfft((x - x.mean()) * window, 8 * n))
+    freq = np.fft.rfftfreq(8 * n, dt)
+    k = int(np.argmax(amp))
+    a, b, c = np.log(amp[k - 1 : k + 2])
+    vertex = freq[k] + 0.5 * (a - c) / (a - 2 * b + c) * (freq[1] - freq[0])
+    assert spectrum.dominant_frequency(x, dt) == pytest.approx(vertex, rel=1e-12)
+    assert abs(vertex - 7.3) < 0.05
+    slow = np.sin(2 * np.pi * 0.4 * np.arange(2000) * dt)
+    assert spectrum.dominant_frequency(slow, dt) == pytest.approx(0.4, abs=0.01)
+
+
+def test_the_sine_fit_removes_a_slope_by_default():
+    """A 5.2 Hz sine on a ramp of 30 amplitudes per second, 1 s record: the default fit (offset and slope) finds
+    5.2 Hz within its 1e-5 relative search tolerance; without the slope (detrend="constant") the ramp drags it."""
+    dt = 1e-3
+    t = np.arange(1000) * dt
+    x = np.sin(2 * np.pi * 5.2 * t + 0.3) + 30.0 * t
+    assert spectrum.refine_by_sine_fit(x, dt, 5.0) == pytest.approx(5.2, rel=1e-4)
+    assert abs(spectrum.refine_by_sine_fit(x, dt, 5.0, detrend="constant") - 5.2) > 1e-2
+
+
+def test_the_dc_bin_is_the_hann_weighted_mean_of_the_detrended_signal():
+    """x = t^2 less its mean: the DC bin is |sum((x - mean) w)| / sum(w) (single-sided: not doubled)."""
+    t = np.arange(64) * 0.01
+    x = t**2
+    w = np.hanning(x.size)
+    _, amp = spectrum.amplitude_spectrum(x, 0.01)
+    assert amp[0] == pytest.approx(abs(np.sum((x - x.mean()) * w)) / w.sum(), rel=1e-12)
+    assert amp[0] > 1e-4
+
+
+def test_the_causal_segment_at_its_edges():
+    """The segment ends on the sample at t_now (not the next one); a 10-sample window is whole at 10 samples
+    (span = window) and not at 9; by default the whole window is needed; equal or uneven times are refused."""
+    time = np.arange(100) * 0.01
+    x = np.arange(100.0)
+    segment, dt = spectrum.causal_segment(time, x, time[40], 0.1)
+    assert segment.tolist() == x[31:41].tolist() and dt == pytest.approx(0.01)
+    fine = np.arange(1000) * 1e-4  # t_now on a sample: the next one, 1e-4 s later, is not in the segment
+    assert spectrum.causal_segment(fine, np.arange(1000.0), fine[400], 1e-3)[0][-1] == 400.0
+    assert spectrum.causal_segment(time, x, time[9], 0.1) is not None  # samples 0..9 span 0.1 s
+    assert spectrum.causal_segment(time, x, time[8], 0.1) is None
+    assert spectrum.causal_segment(time, x, time[50], 0.03) is None  # 3 samples: fewer than 4
+    assert spectrum.causal_segment(time, x, time[30], 0.5) is None  # 0.31 s of record < the 0.5 s window
+    assert spectrum.causal_segment(time, x, time[30], 0.5, min_freq_hz=10.0, min_cycles=2.0) is not None
+    with pytest.raises(ValueError, match="must increase"):
+        spectrum.causal_segment(np.zeros(10), np.zeros(10), 0.0, 0.1)
+    uneven = time.copy()
+    uneven[50] += 1e-7  # 1e-5 of a step
+    with pytest.raises(ValueError, match="uniform"):
+        spectrum.causal_segment(uneven, x, uneven[60], 0.2)
+
+
+def test_the_required_span_is_the_cycles_of_the_lowest_line_or_the_window():
+    assert spectrum.required_span(5.0, 0.5, 2.0) == 4.0
+    assert spectrum.required_span(5.0, 0.0, 2.0) == 5.0
+    assert spectrum.required_span(1.0, 0.5, 2.0) == 1.0

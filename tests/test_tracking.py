@@ -284,3 +284,40 @@ def test_esprit_is_computed_once_per_segment_and_again_for_a_changed_one(monkeyp
     assert len(calls) == 4  # a changed sample, step or model order is a new fit
     monkeypatch.setattr(tracking, "_SEEN", tracking.OrderedDict())
     assert tracking.esprit_dominant(x, DT, model_order=2, min_freq_hz=3, max_freq_hz=12) == first  # computed afresh
+
+
+def test_a_damped_lines_amplitude_is_its_envelopes_rms_over_the_window():
+    """x = A exp(-s t) sin(2 pi f t) over 1 s: one damped pole pair, whose amplitude is 2 |c| times the RMS of its
+    envelope, i.e. A times the RMS of exp(-s t) over the samples (closed form of the model, not the code's
+    normalisation); the frequency is f to 1e-6. With no trend in the signal, the model's two spare exponentials
+    land on the line too and take no amplitude (below 1e-9 of it)."""
+    dt, f, a, s = 1e-3, 12.0, 2.0, 1.5
+    t = np.arange(1000) * dt
+    freq, amp = tracking.esprit_lines(a * np.exp(-s * t) * np.sin(2 * np.pi * f * t), dt, 1)
+    k = int(np.argmax(amp))
+    assert freq[k] == pytest.approx(f, rel=1e-6)
+    assert amp[k] == pytest.approx(a * np.sqrt(np.mean(np.exp(-2 * s * t))), rel=1e-6)
+    assert np.delete(amp, k).max() < 1e-9 * a
+
+
+def test_the_trend_cutoff_is_the_frequency_resolution_and_a_constant_has_no_line():
+    assert tracking.trend_cutoff_hz(400, 5e-3) == pytest.approx(0.5)  # 1 / (400 x 5 ms)
+    kwargs = {"model_order": 1, "min_freq_hz": 0.0, "max_freq_hz": 100.0}
+    assert np.isnan(tracking.esprit_dominant(np.full(200, 0.3), 5e-3, **kwargs))
+
+
+def test_remembered_lines_are_read_only_and_the_oldest_are_forgotten_first(monkeypatch):
+    """The memo of `_esprit_lines_seen` hands out read-only arrays (callers share them) and, when full, drops the
+    least recently used segment."""
+    monkeypatch.setattr(tracking, "_SEEN", type(tracking._SEEN)())
+    monkeypatch.setattr(tracking, "_SEEN_SIZE", 2)
+    t = np.arange(64) * 1e-3
+    segments = [np.sin(2 * np.pi * f * t) for f in (40.0, 50.0, 60.0)]
+    first = tracking._esprit_lines_seen(segments[0], 1e-3, 1)
+    assert not first[0].flags.writeable and not first[1].flags.writeable
+    tracking._esprit_lines_seen(segments[1], 1e-3, 1)
+    tracking._esprit_lines_seen(segments[0], 1e-3, 1)  # used again: now the most recent
+    tracking._esprit_lines_seen(segments[2], 1e-3, 1)
+    kept = {key[0] for key in tracking._SEEN}
+    digest = [tracking.hashlib.blake2b(s.tobytes(), digest_size=16).digest() for s in segments]
+    assert kept == {digest[0], digest[2]}
