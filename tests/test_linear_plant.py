@@ -409,7 +409,7 @@ def test_from_params_builds_the_named_mount_and_body():
 
 def test_the_caches_stay_bounded_and_answer_as_new(isolated):
     """70 stiffnesses and 70 dampings, past the caches' 64 entries: each cache holds at most 64, and a state space,
-    step map and lifted map asked again after eviction equal a fresh plant's."""
+    step map asked again after eviction equal a fresh plant's."""
     sim, plant = isolated
     for k in np.linspace(100.0, 1000.0, 70):
         plant.model.state_space(k, 1.0)
