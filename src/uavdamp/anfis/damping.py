@@ -36,13 +36,15 @@ class DampingModel:
         return self.estimator
 
     @classmethod
-    def unfitted(cls, options: AnfisOptions, estimator=None) -> DampingModel:
-        """From the `anfis` section: an ANFIS (or ``estimator``) on the configured transforms."""
+    def unfitted(cls, options: AnfisOptions, estimator=None, inputs: tuple[str, ...] = INPUTS) -> DampingModel:
+        """From the `anfis` section: an ANFIS (or ``estimator``) on the configured transforms; `inputs` the
+        table's dimensions the rows follow (two frequencies ``freq_NAME`` in Hz, then ``stiffness``), the ANFIS's
+        inputs then named f_NAME."""
         log_k, log_c = options.log_stiffness, options.log_damping
         if estimator is None:
             estimator = ANFIS(
                 **options.estimator_params(),
-                input_names=["f_y", "f_z", "log10_K" if log_k else "K"],
+                input_names=[*(name.replace("freq_", "f_") for name in inputs[:2]), "log10_K" if log_k else "K"],
                 input_units=["Hz", "Hz", "1" if log_k else "N/m"],
                 output_name="log10_C" if log_c else "C",
                 output_units="1" if log_c else "N s/m",
@@ -113,18 +115,21 @@ def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
 
 
 class Regret:
-    """criterion(C) / min over C of the criterion at table cells, from a grid's ``criterion`` (INPUTS, damping)."""
+    """criterion(C) / min over C of the criterion at table cells, from a grid's ``criterion`` (inputs, damping),
+    `inputs` its three input dimensions (default INPUTS); NaN criteria (a failed point, a damping left out) are
+    interpolated over."""
 
-    def __init__(self, grid: xr.Dataset):
-        self.criterion = np.asarray(grid.criterion.transpose(*INPUTS, "damping").values, float)
-        self.axes = [pd.Index(grid[name].values) for name in INPUTS]
+    def __init__(self, grid: xr.Dataset, inputs: tuple[str, ...] = INPUTS):
+        self.inputs = tuple(inputs)
+        self.criterion = np.asarray(grid.criterion.transpose(*self.inputs, "damping").values, float)
+        self.axes = [pd.Index(grid[name].values) for name in self.inputs]
         self.damping = np.asarray(grid.damping.values, float)
         self.optimum = np.nanmin(self.criterion, axis=-1)
 
     def __call__(self, X: np.ndarray, damping: np.ndarray) -> np.ndarray:
         """Regret at cells X [f_y, f_z, K] (grid values exactly) of the dampings C (N s/m), 1."""
         index = []
-        for name, axis, values in zip(INPUTS, self.axes, np.asarray(X, float).T, strict=True):
+        for name, axis, values in zip(self.inputs, self.axes, np.asarray(X, float).T, strict=True):
             k = axis.get_indexer(values)
             if (k < 0).any():
                 raise KeyError(f"{name} = {float(values[k < 0][0]):g} is not a value of the grid")

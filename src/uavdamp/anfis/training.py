@@ -36,10 +36,13 @@ from uavdamp.reference_table.criteria import select_grid, select_table
 __all__ = ["INPUTS", "DampingModel", "regret", "select_target", "split", "table_samples", "train"]
 
 
-def table_samples(table: xr.Dataset, target: str = "damping_opt") -> tuple[np.ndarray, np.ndarray, int]:
-    """(X (n, 3), y (n,), number of NaN cells dropped) from the table's `target` (freq_y, freq_z, stiffness)."""
-    da = table[target].transpose(*INPUTS)
-    grids = np.meshgrid(*(table[name].values for name in INPUTS), indexing="ij")
+def table_samples(
+    table: xr.Dataset, target: str = "damping_opt", inputs: tuple[str, ...] = INPUTS
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """(X (n, 3), y (n,), number of NaN cells dropped) from the table's `target` over its dimensions `inputs`
+    (default INPUTS: freq_y, freq_z, stiffness)."""
+    da = table[target].transpose(*inputs)
+    grids = np.meshgrid(*(table[name].values for name in inputs), indexing="ij")
     X = np.column_stack([g.ravel() for g in grids])
     y = da.values.ravel()
     keep = np.isfinite(y)
@@ -96,10 +99,10 @@ def _cv_regret(cv: xr.Dataset, predictions: list, folds: list, anfis: DampingMod
     )
 
 
-def _fit_models(X, y, is_train, options: AnfisOptions, grid, n_jobs: int):
+def _fit_models(X, y, is_train, options: AnfisOptions, grid, n_jobs: int, inputs: tuple[str, ...] = INPUTS):
     """The cross-validated ANFIS and the baselines, fitted on the training rows; CV record; fit times (s)."""
     candidates = [c.params() for c in options.selection.candidates]
-    anfis = DampingModel.unfitted(options)
+    anfis = DampingModel.unfitted(options, inputs=inputs)
     Xt, yt = X[is_train], y[is_train]
     target = anfis.target(yt)
     folds = model_selection.splits(len(yt), options.selection.folds, options.seed)
@@ -121,7 +124,7 @@ def _fit_models(X, y, is_train, options: AnfisOptions, grid, n_jobs: int):
         candidates, scores, len(folds), options.selection.rule, est.output_units, est.output_name
     )
     if grid is not None:
-        _cv_regret(cv, [p for p, _, _ in cv_out], folds, anfis, Xt, Regret(grid))
+        _cv_regret(cv, [p for p, _, _ in cv_out], folds, anfis, Xt, Regret(grid, inputs))
     est.set_params(**candidates[chosen])
     times = {f"cv {model_selection.label(c)} (mean per fold)": t for c, t in zip(candidates, cv_times, strict=True)}
     start = time.perf_counter()
@@ -138,7 +141,7 @@ def _rmse(a, b) -> np.ndarray:
     return np.sqrt(np.mean((a - b) ** 2, axis=1))
 
 
-def _model_scores(models: dict, X, y, is_train, grid) -> xr.Dataset:
+def _model_scores(models: dict, X, y, is_train, grid, inputs: tuple[str, ...] = INPUTS) -> xr.Dataset:
     """Per model: checking errors in the learnt target and in C, and regret; predictions per sample."""
     check, anfis = ~is_train, models["anfis"]
     y_learnt, units, out = anfis.target(y), anfis.anfis.output_units, anfis.anfis.output_name
@@ -166,7 +169,7 @@ def _model_scores(models: dict, X, y, is_train, grid) -> xr.Dataset:
         {"units": "N s m-1", "long_name": "C predicted by each model"},
     )
     if grid is not None:
-        cost = Regret(grid)
+        cost = Regret(grid, inputs)
         regrets = np.array([cost(X, d) for d in damping])
         what = "criterion at the model's damping / optimal criterion"
         ds["regret_by_model"] = (("model", "sample"), regrets, {"units": "1", "long_name": what})
@@ -224,7 +227,7 @@ def _epoch_record(fitted, mode: str, validation_fraction: float) -> xr.Dataset:
     )
 
 
-def _samples(table: xr.Dataset, X, y, is_train, scores: xr.Dataset) -> xr.Dataset:
+def _samples(table: xr.Dataset, X, y, is_train, scores: xr.Dataset, inputs: tuple[str, ...] = INPUTS) -> xr.Dataset:
     """Per table cell: its inputs, reference and ANFIS damping, split and (with a grid) the ANFIS's regret."""
     predicted = scores.damping_predicted_by_model.sel(model="anfis").values
     samples = xr.Dataset(
@@ -236,7 +239,7 @@ def _samples(table: xr.Dataset, X, y, is_train, scores: xr.Dataset) -> xr.Datase
                 is_train.astype(np.int8),
                 {"units": "1", "long_name": "1: training split, 0: checking split"},
             ),
-            **{name: ("sample", X[:, j], {**table[name].attrs}) for j, name in enumerate(INPUTS)},
+            **{name: ("sample", X[:, j], {**table[name].attrs}) for j, name in enumerate(inputs)},
         },
         coords={"sample": ("sample", np.arange(y.size), {"units": "1", "long_name": "reference table cell"})},
     )
@@ -296,6 +299,7 @@ def train(
     options: AnfisOptions,
     target: tuple[str, str] | None = None,
     n_jobs: int = 1,
+    inputs: tuple[str, ...] = INPUTS,
 ) -> tuple[DampingModel, xr.Dataset, dict]:
     """Select, fit and check the ANFIS and the baselines; return the ANFIS, the record, fit times (s).
 
@@ -306,17 +310,18 @@ def train(
     With the `grid` (criterion over C) the record also holds each cell's regret per model: the
     criterion at the predicted C over the best criterion (1 = as good as the table's optimum), and every
     candidate's regret on the cross-validation's held-out rows. n_jobs: joblib workers (the record does not
-    depend on it). The fit times are apart from the record, which is identical on two runs.
+    depend on it). The fit times are apart from the record, which is identical on two runs. `inputs`: the
+    table's three input dimensions, two frequencies (Hz) then the stiffness (N m-1); default INPUTS.
     """
     table, grid = select_target(table, grid, target)
     check_grid_edges(table)
-    X, y, dropped = table_samples(table)
+    X, y, dropped = table_samples(table, inputs=inputs)
     is_train = split(y.size, options.train_fraction, options.seed)
     with threadpool_limits(limits=1):  # one thread per process, the parallelism is across fits (n_jobs)
-        models, cv, times = _fit_models(X, y, is_train, options, grid, n_jobs)
-        scores = _model_scores(models, X, y, is_train, grid)
+        models, cv, times = _fit_models(X, y, is_train, options, grid, n_jobs, inputs)
+        scores = _model_scores(models, X, y, is_train, grid, inputs)
     model = models["anfis"]
-    samples = _samples(table, X, y, is_train, scores)
+    samples = _samples(table, X, y, is_train, scores, inputs)
     record = xr.merge(
         [_epoch_record(model.anfis, options.epoch_selection, options.validation_fraction), samples, scores, cv],
         combine_attrs="override",
