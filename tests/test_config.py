@@ -62,6 +62,10 @@ BAD = {
         {"payload": {"wire_rope": {"axes": ["x", "x"]}}},
         "payload.wire_rope.axes: must be distinct names of ['x', 'y', 'z'], got ['x', 'x']",
     ),
+    "payload-anfis-reference-beyond-the-table": (
+        {"payload": {"anfis": {"freq_hz": {"start": 1.0, "stop": 120.0, "num": 9, "spacing": "log"}}}},
+        "payload.anfis.freq_hz: must lie within payload.table.freq_hz's [2, 120] Hz, got 1-120 Hz",
+    ),
     "payload-unknown-source": (
         {"payload": {"sources": ["nowhere"]}},
         "payload.sources[0]: 'nowhere' is not a name of the sources section",

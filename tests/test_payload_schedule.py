@@ -4,6 +4,7 @@ decay times against the uncoupled isolator's closed form) and the keys it names 
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -110,11 +111,22 @@ def test_a_schedule_that_cannot_work_names_its_key():
         ps.Table.of(table, 500.0, 0.01)
 
 
+class _Constant:
+    """A stand-in payload ANFIS whose C is `c` whatever it is asked."""
+
+    def __init__(self, c: float):
+        self.c = c
+
+    def predict(self, X):
+        return np.full(len(X), self.c)
+
+
 def test_a_law_left_one_damping_is_the_constant_run_at_it():
     """max_decay_time_s set so that one table damping (the least that settles within 0.5 s) is eligible and the
     initial C that one: the scheduled run's metrics are the constant-damping run's at that C to rounding on each
     mount it runs on (the wire rope's schedule through `wire_rope.integrate_scheduled`, its constant run through
-    `wire_rope.integrate`), and the decisions are recorded per update (the C, the lines it tracked)."""
+    `wire_rope.integrate`), and the decisions are recorded per update (the C, the lines it tracked). So are the
+    payload ANFIS's, with a model whose C is that one."""
     table = pt.table_dataset(_section(table={"stiffness_n_m": {"values": [500.0]}}))
     decay = table.decay_time.sel(stiffness=500.0).values
     c = float(table.damping.values[decay <= 0.5].min())
@@ -129,13 +141,14 @@ def test_a_law_left_one_damping_is_the_constant_run_at_it():
     t = np.arange(int(round(3.0 / section.time_step_s)) + 1) * section.time_step_s
     u = np.zeros((6, t.size))
     u[0], u[4] = 1e-3 * np.sin(2 * np.pi * 7.0 * t), 5e-4 * np.sin(2 * np.pi * 9.0 * t)
-    ds = compare_payloads(t, MountMotion(u[:3], u[3:]), section, PLATFORM, CAMERA, table)
-    assert list(ds.law.values) == ["skyhook_" + f"{c:g}", "scheduled"]
-    for mount in ("six_axis", "wire_rope"):
+    ds = compare_payloads(t, MountMotion(u[:3], u[3:]), section, PLATFORM, CAMERA, table, _Constant(c))
+    assert list(ds.law.values) == ["skyhook_" + f"{c:g}", "scheduled", "anfis"]
+    for mount, law in itertools.product(("six_axis", "wire_rope"), ("scheduled", "anfis")):
         constant = ds.los_std.sel(payload="gimbal", mount=mount, damping=c)
-        assert float(ds.law_los_std.sel(law="scheduled", mount=mount)) == pytest.approx(float(constant), rel=1e-9)
+        assert float(ds.law_los_std.sel(law=law, mount=mount)) == pytest.approx(float(constant), rel=1e-9)
     assert float(ds.law_damping_mean.sel(law="scheduled")) == pytest.approx(c, rel=1e-12)
     np.testing.assert_array_equal(ds.scheduled_damping.values, c)
+    np.testing.assert_array_equal(ds.anfis_damping.values, c)
     assert ds.scheduled_line_freq.sel(dof="x").values[-1] == pytest.approx(7.0, abs=0.02)
     assert np.isnan(ds.scheduled_line_freq.sel(dof="z").values).all()
 

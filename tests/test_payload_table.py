@@ -25,6 +25,7 @@ SMALL = {
     "damping_n_s_m": {"values": [3.0]},
     "bands_hz": {"helicopter": [3.0, 12.0]},
 }
+AT_7_HZ = {"freq_hz": {"values": [7.0]}}  # the payload ANFIS's reference within SMALL's one frequency
 
 
 @pytest.mark.parametrize(("dof", "amplitude"), [(0, 1e-5), (4, 1e-4), (5, 1e-4)])
@@ -33,7 +34,9 @@ def test_the_criterion_is_the_simulated_gimbal_on_a_stiffer_isolator(dof, amplit
     and y likewise; C = 3 N s/m) against the time-domain gimbal on an isolator built here from the same numbers:
     sqrt(a_pitch^2 + a_yaw^2) / sqrt 2 of the fitted amplitudes, at the table's amplitude (the loop is linear),
     within 1 % (the transmissibility's own agreement, tests/test_transmissibility.py)."""
-    section = _section(gimbal={"sensor_errors": False}, table={**SMALL, "rotation_amplitude_rad": 2e-3}, schedule=ANY_C)
+    section = _section(
+        gimbal={"sensor_errors": False}, table={**SMALL, "rotation_amplitude_rad": 2e-3}, schedule=ANY_C, anfis=AT_7_HZ
+    )
     isolator = square_layout(
         runs.gimbal_payload(section),
         section.six_axis.half_spacing,
@@ -110,6 +113,7 @@ def test_the_optimum_of_a_cube_of_hand_values():
         ({"bands_hz": {"helicopter": [12.1, 12.9]}}, "payload.table.bands_hz.helicopter"),  # no table frequency
         ({"rotation_amplitude_rad": 0.0}, "payload.table.rotation_amplitude_rad"),
         ({"stiffness_n_m": {"values": [250.0, 1000.0]}}, "payload.table.stiffness_n_m"),  # not the isolator's 500
+        ({"freq_hz": {"values": [3.0, 100.0]}}, "payload.anfis.freq_hz"),  # the ANFIS's reference reaches 2-120 Hz
     ],
 )
 def test_a_table_key_that_cannot_work_is_refused_by_name(table, key):
@@ -125,7 +129,7 @@ def test_a_settling_limit_that_leaves_the_law_no_damping_is_refused_before_any_j
 
 
 def test_the_dataset_says_its_units():
-    table = pt.table_dataset(_section(table=SMALL, schedule=ANY_C))
+    table = pt.table_dataset(_section(table=SMALL, schedule=ANY_C, anfis=AT_7_HZ))
     for name, (_, units, _) in pt.ROWS.items():
         assert table[name].attrs["units"] == units and table[name].attrs["long_name"], name
     assert table.freq.attrs["units"] == "Hz" and table.stiffness.attrs["units"] == "N m-1"

@@ -357,7 +357,8 @@ def test_the_payload_findings_state_the_best_skyhook_run_against_the_best_consta
 def test_the_payload_findings_state_the_scheduled_law_apart_from_the_skyhook_runs():
     """A scheduled law (60 µrad, mean C 5.5 N s/m) beside a skyhook run (75 µrad at c_on 30): the skyhook finding
     names the skyhook run, not the scheduled law's lower value, and the scheduled law is stated with its mean C and
-    -40 % against the best constant C (100 µrad); its detrended value (30 µrad) beside the skyhook's (35)."""
+    -40 % against the best constant C (100 µrad); its detrended value (30 µrad) beside the skyhook's (35). The
+    payload ANFIS (110 µrad, mean C 12 N s/m) with its mean C and +10 %."""
     los = np.full((1, 1, 1, 2), np.nan)
     los[0, 0, 0] = [1e-4, 2e-3]
     per_law, per_mount = ("input", "law"), ("input", "mount", "law")
@@ -365,17 +366,17 @@ def test_the_payload_findings_state_the_scheduled_law_apart_from_the_skyhook_run
         {
             "los_std": (("input", "payload", "mount", "damping"), los, {"units": "rad"}),
             "los_detrended_std": (("input", "payload", "mount", "damping"), [[[[40e-6, 60e-6]]]], {"units": "rad"}),
-            "law_los_std": (per_mount, [[[75e-6, 60e-6]]], {"units": "rad"}),
-            "law_los_detrended_std": (per_mount, [[[35e-6, 30e-6]]], {"units": "rad"}),
-            "law_c_on": (per_law, [[30.0, np.nan]], {"units": "N s m-1"}),
-            "law_damping_mean": (per_law, [[np.nan, 5.5]], {"units": "N s m-1"}),
+            "law_los_std": (per_mount, [[[75e-6, 60e-6, 110e-6]]], {"units": "rad"}),
+            "law_los_detrended_std": (per_mount, [[[35e-6, 30e-6, 50e-6]]], {"units": "rad"}),
+            "law_c_on": (per_law, [[30.0, np.nan, np.nan]], {"units": "N s m-1"}),
+            "law_damping_mean": (per_law, [[np.nan, 5.5, 12.0]], {"units": "N s m-1"}),
         },
         coords={
             "input": ["heli"],
             "payload": ["gimbal"],
             "mount": ["six_axis"],
             "damping": [3.0, 30.0],
-            "law": ["skyhook_30", "scheduled"],
+            "law": ["skyhook_30", "scheduled", "anfis"],
         },
     )
     (finding,) = payload_page.payload_findings(ds)
@@ -385,6 +386,7 @@ def test_the_payload_findings_state_the_scheduled_law_apart_from_the_skyhook_run
         in finding
     )
     assert "35 µrad under skyhook, 30 µrad under the scheduled law." in finding
+    assert "The payload ANFIS there (C from two DOFs' tracked frequencies; mean 12 N s/m): 110 µrad, +10 %." in finding
 
 
 def test_the_payload_findings_state_the_gimbals_line_of_sight_without_the_slow_drift():

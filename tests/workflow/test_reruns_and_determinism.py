@@ -83,7 +83,7 @@ EDITS = {
     "platform.structure.camera_mass_kg": (
         ("platform", "structure", "camera_mass_kg"),
         lambda v: v * 1.01,
-        {"platform_modes", "payload_table", "payload"} | GRID_DOWN,
+        {"platform_modes", "payload_table", "payload_anfis", "payload"} | GRID_DOWN,
     ),
     # the head's own bodies: not the gimbal's table (it carries only the camera)
     "platform.structure.base_mass_kg": (
@@ -94,9 +94,11 @@ EDITS = {
     "payload.table.translation_amplitude_m": (
         ("payload", "table", "translation_amplitude_m"),
         lambda v: v * 2,
-        {"payload_table", "payload"},
+        {"payload_table", "payload_anfis", "payload"},
     ),
     "payload.schedule.window_s": (("payload", "schedule", "window_s"), lambda v: v * 0.8, {"payload"}),
+    # the payload ANFIS's inputs: its training and the payload stage that runs it, not the table
+    "payload.anfis.dofs": (("payload", "anfis", "dofs"), lambda v: ["x", "rz"], {"payload_anfis", "payload"}),
     "platform.response.duration_s": (("platform", "response", "duration_s"), lambda v: v + 0.5, {"platform_modes"}),
     "platform.isolator.damping_max_n_s_m": (
         ("platform", "isolator", "damping_max_n_s_m"),
@@ -115,7 +117,8 @@ EDITS = {
         lambda v: v * 2,
         {"reference_table", "reference_table_stroke", "anfis", "study"},
     ),
-    "anfis.ridge": (("anfis", "ridge"), lambda v: v + 1e-6, {"anfis", "study"}),
+    # the anfis section's options train the study's ANFIS and the payload's
+    "anfis.ridge": (("anfis", "ridge"), lambda v: v + 1e-6, {"anfis", "study", "payload_anfis", "payload"}),
     "study.passive_damping_n_s_m": (("study", "passive_damping_n_s_m"), lambda v: v * 1.5, {"study"}),
     "study.tracking.window_s": (
         ("study", "tracking", "window_s"),

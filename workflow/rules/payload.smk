@@ -32,6 +32,49 @@ rule payload_table:
         "../scripts/payload_table.py"
 
 
+# The paper's ANFIS on the payload: [f_a, f_b, K] -> C learnt from the payload table with the anfis section's options
+# (src/uavdamp/study/payload_anfis.py); the payload stage runs it as the law `anfis`.
+PAYLOAD_ANFIS = canonical(
+    {
+        "anfis": config["payload"]["anfis"],
+        "max_decay_time_s": config["payload"]["schedule"]["max_decay_time_s"],
+    }
+)
+digest("payload_anfis", {"payload": PAYLOAD_ANFIS, "anfis": ANFIS}, "payload_table")
+
+
+rule payload_anfis:
+    input:
+        table=f"{OUT}/payload/table.nc",
+    output:
+        model=f"{OUT}/payload/anfis_model.nc",
+        training=f"{OUT}/payload/anfis_training.nc",
+        rules=f"{OUT}/payload/anfis_rules.txt",
+        figure=report(
+            f"{OUT}/figures/payload_anfis_training.png",
+            caption="../report/payload_anfis.rst",
+            category="Payload",
+            labels={
+                "figure": "the payload ANFIS: training and checking error, predicted against best C"
+            },
+        ),
+    log:
+        f"{OUT}/logs/payload_anfis.log",
+    benchmark:
+        f"{OUT}/benchmarks/payload_anfis.tsv"
+    priority: 2  # the study's longest chains first: docs/getting-started.md
+    conda:
+        ENV
+    threads: config["anfis"]["threads"]
+    params:
+        digest=DIGESTS["payload_anfis"],
+        expects=expects({f"{OUT}/payload/table.nc": "payload_table"}),
+        payload=PAYLOAD_ANFIS,
+        anfis=ANFIS,
+    script:
+        "../scripts/payload_anfis.py"
+
+
 # Which payload and isolator keep the camera sharp: the paper's head, the same head balanced and a gyro-stabilised
 # gimbal, each on a rigid, the paper's Y-Z and a six-axis isolator, at constant damping candidates, on the study's
 # cases and the stated sources payload.sources names (src/uavdamp/study/payload.py).
@@ -51,6 +94,7 @@ digest(
     },
     "excitation",
     "payload_table",
+    "payload_anfis",
 )
 
 
@@ -58,6 +102,7 @@ rule payload:
     input:
         cases=f"{OUT}/excitation/cases.nc",
         table=f"{OUT}/payload/table.nc",
+        model=f"{OUT}/payload/anfis_model.nc",
     output:
         comparison=f"{OUT}/payload/comparison.nc",
         design=f"{OUT}/payload/design.nc",
@@ -89,6 +134,7 @@ rule payload:
             {
                 f"{OUT}/excitation/cases.nc": "excitation",
                 f"{OUT}/payload/table.nc": "payload_table",
+                f"{OUT}/payload/anfis_model.nc": "payload_anfis",
             }
         ),
         payload=PAYLOAD,

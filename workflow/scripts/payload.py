@@ -2,6 +2,7 @@
 and the line-of-sight and transmissibility figures."""
 
 from uavdamp import integrity, io, workflow
+from uavdamp.anfis.damping import DampingModel
 from uavdamp.camera.optics import CameraModel
 from uavdamp.platform import PlatformParams
 from uavdamp.plots import payload as plots
@@ -19,9 +20,10 @@ camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}
 cases = io.open_dataset(snakemake.input.cases)
 table = io.open_dataset(snakemake.input.table)  # the payload table: the scheduled law's
-ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera, table)
+model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))  # the payload ANFIS: the law anfis's
+ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera, table, model)
 design = payload_design.design_dataset(section)
-for name in ("los_std", "best_damping", "law_los_std", "scheduled_damping"):
+for name in ("los_std", "best_damping", "law_los_std", "scheduled_damping", "anfis_damping"):
     if name in ds:
         workflow.log_info(f"{name} ({ds[name].attrs['units']}):\n{ds[name].to_dataframe().to_string()}")
 config = {"payload": p.payload, "sources": p.sources, "camera": p.camera, "platform": p.platform}

@@ -23,6 +23,7 @@ LAW_WORDS = {"six_axis": "filled six-axis", "wire_rope": "hollow wire rope"}
 LAW_MARKERS = {  # the law runs' families (`_kind`): marker, size, legend text
     "skyhook": ("*", 10, "skyhook (x: c_on"),
     "scheduled": ("D", 6, "scheduled law (x: its mean C)"),
+    "anfis": ("^", 7, "payload ANFIS (x: its mean C)"),
     "mr_held": ("s", 6, "MR damper at 0 / 2.25 V (x: its C)"),
     "mr_skyhook": ("P", 8, "MR damper, skyhook (x: C at 2.25 V)"),
     "mr_scheduled": ("X", 8, "MR damper, scheduled (x: mean C)"),
@@ -46,9 +47,9 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
     """LOS rms (µrad, log) against the constant damping C (N s/m, log) per payload (colour) and mount (line
     style), one panel per input (`input`); the rigid mount, which has no damper, is a level line; the gimbal's
     sensor-noise floor (`floor_los_std`) dash-dotted grey where present; the law runs (`LAW_MARKERS`: skyhook
-    stars at their c_on, the scheduled law a diamond at its mean C, the MR damper's runs squares, a plus and a
-    cross) filled on the six-axis isolator, hollow on the wire rope; values below FLOOR_URAD on the axis as
-    downward triangles."""
+    stars at their c_on, the scheduled law a diamond and the payload ANFIS a triangle at their mean C, the MR
+    damper's runs squares, a plus and a cross) filled on the six-axis isolator, hollow on the wire rope; values
+    below FLOOR_URAD on the axis as downward triangles."""
     inputs = [str(i) for i in ds.input.values]
     ncols = min(3, len(inputs))
     nrows = int(np.ceil(len(inputs) / ncols))
@@ -97,7 +98,7 @@ def line_of_sight_figure(ds: xr.Dataset) -> Figure:
 
 
 def _kind(law: str) -> str:
-    """The figure's family of a law run: skyhook, scheduled, mr_held, mr_skyhook, mr_scheduled."""
+    """The figure's family of a law run: skyhook, scheduled, anfis, mr_held, mr_skyhook, mr_scheduled."""
     if law.startswith("skyhook_"):
         return "skyhook"
     return "mr_held" if law in ("mr_off", "mr_on") else law

@@ -110,8 +110,8 @@ def _mr_finding(ds: xr.Dataset, name) -> str:
 
 
 def _skyhook_finding(ds: xr.Dataset, name) -> str:
-    """Per mount the laws ran on, the best skyhook run and the scheduled law against the gimbal's best constant C
-    on that mount ('' without)."""
+    """Per mount the laws ran on, the best skyhook run, the scheduled law and the payload ANFIS against the
+    gimbal's best constant C on that mount ('' without)."""
     text = ""
     for mount in _law_mounts(ds, name):
         law = _skyhook(ds.law_los_std.sel(input=name, mount=mount))
@@ -129,5 +129,12 @@ def _skyhook_finding(ds: xr.Dataset, name) -> str:
                 f" The scheduled law there (C from the tracked lines through the payload table; mean {fmt(mean, 2)} "
                 f"N s/m): {fmt(value * 1e6, 3)} µrad, {signed(100 * (value / best - 1), 2)} % against the best "
                 "constant C."
+            )
+        if "anfis" in ds.law.values:
+            learnt = ds.sel(input=name, law="anfis", mount=mount)
+            value, mean = float(learnt.law_los_std), float(learnt.law_damping_mean)
+            text += (
+                f" The payload ANFIS there (C from two DOFs' tracked frequencies; mean {fmt(mean, 2)} N s/m): "
+                f"{fmt(value * 1e6, 3)} µrad, {signed(100 * (value / best - 1), 2)} %."
             )
     return text

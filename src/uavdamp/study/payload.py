@@ -53,6 +53,7 @@ from uavdamp.sources.excitation import case_motion
 from uavdamp.sources.stated import StatedSource, motion
 from uavdamp.study import payload_laws as laws
 from uavdamp.study import payload_runs as runs
+from uavdamp.study.payload_anfis import AnfisLaw, AnfisPayloadSection
 from uavdamp.study.payload_runs import (  # noqa: F401 (the helpers' public face)
     MECHANISM_MASS_KG,
     SIX_AXIS_MOUNTS,
@@ -97,6 +98,7 @@ class PayloadSection:
     wire_rope: WireRopeSection = setting(default=WireRopeSection())  # the mount wire_rope: six_axis, Bouc-Wen
     mr: MRSection = setting(default=MRSection())  # MR dampers on the six-axis isolator's elements (six_axis_force)
     schedule: ScheduleSection = setting(default=ScheduleSection())  # the scheduled law (payload_schedule)
+    anfis: AnfisPayloadSection = setting(default=AnfisPayloadSection())  # the payload ANFIS (payload_anfis)
     table: TableSection = setting(default=TableSection())  # the closed-form table of the best C (payload_table)
 
     @property
@@ -175,9 +177,10 @@ class _Setup:
     plants: dict  # head payload -> its Plants
     camera: CameraModel
     table: Table | None = None  # the payload table at the six-axis isolator's K: the scheduled law (None: none)
+    anfis: AnfisLaw | None = None  # the payload ANFIS as a law (None: none)
 
 
-def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None) -> _Setup:
+def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None, model=None) -> _Setup:
     heads = [p for p in section.payloads if p in HEADS]
     if heads and "yz" in section.mounts:
         lo, hi = platform.damping_min, platform.damping_max
@@ -186,8 +189,10 @@ def _setup(section: PayloadSection, platform: PlatformParams, camera: CameraMode
     plants = {p: Plants(head_platform(platform, p, section.time_step_s)) for p in heads}
     g = gimbal_params(section)
     limit = section.schedule.max_decay_time
-    at_k = None if table is None else Table.of(table, section.six_axis.stiffness[2], limit)
-    return _Setup(section, g, design(g), (0.0, 0.0, gimbal_height(section)), plants, camera, at_k)
+    k = section.six_axis.stiffness[2]
+    at_k = None if table is None else Table.of(table, k, limit)
+    law = None if model is None or at_k is None else AnfisLaw.of(model, section.anfis.dofs, k, at_k)
+    return _Setup(section, g, design(g), (0.0, 0.0, gimbal_height(section)), plants, camera, at_k, law)
 
 
 def _input(time, mount: MountMotion, section: PayloadSection) -> tuple[np.ndarray, MountMotion]:
@@ -268,15 +273,22 @@ def _floor(setup: _Setup) -> np.ndarray:
 
 
 def compare_payloads(
-    time, mount: MountMotion, section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None
+    time,
+    mount: MountMotion,
+    section: PayloadSection,
+    platform: PlatformParams,
+    camera: CameraModel,
+    table=None,
+    model=None,
 ) -> xr.Dataset:
     """Every payload x mount x damping candidate (module docstring) under the mount motion (time s, any start;
     the first ``duration_s`` of it on the ``time_step_s`` grid): the metrics of `payload_runs.METRICS` over
     (payload, mount, damping), NaN where not modelled (`modelled`), the rigid mount's the same at every C;
     ``best_damping`` (payload, mount) the C of the least ``los_std`` (NaN: rigid, not modelled) and
     ``floor_los_std`` (payload) the LOS rms on a still mount; with the payload table `table` (``payload/table.nc``)
-    also the scheduled law (`uavdamp.study.payload_schedule`). Assumptions: module docstring."""
-    setup = _setup(section, platform, camera, table)
+    also the scheduled law (`uavdamp.study.payload_schedule`), and with the payload ANFIS `model` (a
+    `DampingModel` of `uavdamp.study.payload_anfis`) its law. Assumptions: module docstring."""
+    setup = _setup(section, platform, camera, table, model)
     t, moved = _input(time, mount, section)
     return _dataset(setup, _values(setup, t, moved), _floor(setup), laws.law_values(setup, t, moved))
 
@@ -305,7 +317,12 @@ def inputs(cases: xr.Dataset, sources: dict[str, StatedSource], section: Payload
 
 
 def compare_inputs(
-    found: list[PayloadInput], section: PayloadSection, platform: PlatformParams, camera: CameraModel, table=None
+    found: list[PayloadInput],
+    section: PayloadSection,
+    platform: PlatformParams,
+    camera: CameraModel,
+    table=None,
+    model=None,
 ) -> xr.Dataset:
     """`compare_payloads` of every input, stacked over ``input`` (with ``input_description``); the still mount's
     ``floor_los_std`` once (it does not depend on the input). The inputs run on ``threads`` joblib workers
@@ -313,7 +330,7 @@ def compare_inputs(
     require(len(found) > 0, "payload.sources", "no input: the study has no case and payload.sources is empty")
     floor = _floor(_setup(section, platform, camera))
     gridded = [_input(i.time, i.mount, section) for i in found]  # each input resampled once
-    tasks = [(_one_input, (section, platform, camera, t, moved, floor, table)) for t, moved in gridded]
+    tasks = [(_one_input, (section, platform, camera, t, moved, floor, table, model)) for t, moved in gridded]
     per_input = parallel.run(tasks, section.threads)
     names = [i.name for i in found]
     ds = xr.concat([d.drop_vars("floor_los_std") for d in per_input], dim="input", combine_attrs="override")
@@ -325,9 +342,9 @@ def compare_inputs(
     return ds
 
 
-def _one_input(section, platform, camera, t, moved: MountMotion, floor: np.ndarray, table) -> xr.Dataset:
+def _one_input(section, platform, camera, t, moved: MountMotion, floor: np.ndarray, table, model) -> xr.Dataset:
     """One gridded input's comparison (a task of `compare_inputs`: its own setup, so that it runs in a worker)."""
-    setup = _setup(section, platform, camera, table)
+    setup = _setup(section, platform, camera, table, model)
     return _dataset(setup, _values(setup, t, moved), floor, laws.law_values(setup, t, moved))
 
 

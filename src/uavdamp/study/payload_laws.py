@@ -38,7 +38,7 @@ from uavdamp.study.payload_runs import (
     metric_attrs,
     run_metrics,
 )
-from uavdamp.study.payload_schedule import schedule, scheduled_run
+from uavdamp.study.payload_schedule import replanned, schedule, scheduled_run
 
 
 def skyhook_schedule(
@@ -124,24 +124,22 @@ def law_names(section) -> list[str]:
     return [f"skyhook_{c:g}" for c in law_c_on(section)]
 
 
-def _mount_laws(section, mount: str, t: np.ndarray, moved: MountMotion, per_sample) -> tuple[list, list[float]]:
-    """(the payload's `BodyMotion` on `mount` under each skyhook run of `law_c_on`, then the scheduled C
-    per_sample (n,) N s m-1 unless None; each run's share of element-steps at c_on, NaN for the scheduled)."""
+def _mount_laws(section, mount: str, t: np.ndarray, moved: MountMotion, planned: list) -> tuple[list, list[float]]:
+    """(the payload's `BodyMotion` on `mount` under each skyhook run of `law_c_on`, then under each planned C
+    per sample (n,) N s m-1 of `planned` (the scheduled law's, the ANFIS's); each run's share of element-steps at
+    c_on, NaN for the planned)."""
     c_off, lag, h, c_ons = section.c_off, section.skyhook_lag, float(t[1] - t[0]), law_c_on(section)
     found = isolator(section, mount, c_off)
     if mount == "six_axis":
         pairs = [skyhook_motion(found, t, moved, c_on, c_off, lag) for c_on in c_ons]
-        bodies, shares = [b for b, _ in pairs], [on for _, on in pairs]
-        if per_sample is not None:
-            bodies.append(body_motion(scheduled_run(found, t, moved, per_sample), h))
-        return bodies, shares + [math.nan] * (per_sample is not None)
+        bodies = [b for b, _ in pairs] + [body_motion(scheduled_run(found, t, moved, c), h) for c in planned]
+        return bodies, [on for _, on in pairs] + [math.nan] * len(planned)
     rates = _mount_rates(t, moved)
     schedules: list = [skyhook_schedule(found, t, rates, Skyhook(c, c_off, h), lag) for c in c_ons]
-    if per_sample is not None:
-        schedules.append(np.broadcast_to(per_sample, (len(found.semi_active), t.size)))
+    schedules += [np.broadcast_to(c, (len(found.semi_active), t.size)) for c in planned]
     bodies, applied = hysteretic_law_motions(section, c_off, schedules, t, moved)
     shares = [_on_share(applied[b], c, c_off) for b, c in enumerate(c_ons)]
-    return bodies, shares + [math.nan] * (per_sample is not None)
+    return bodies, shares + [math.nan] * len(planned)
 
 
 def _mr_laws(section, t: np.ndarray, moved: MountMotion, per_sample) -> tuple[list, list[dict]]:
@@ -160,7 +158,8 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
     `law_mounts`; the MR runs on a mount but six_axis); ``c_on`` and ``damping_mean`` (law,) (N s m-1; NaN where a
     law has none); ``name`` (law,): the skyhook runs of `law_names`, then ``scheduled``
     (`uavdamp.study.payload_schedule`) when the setup has a payload table, its decisions as ``schedule`` (a
-    `Schedule`, the same on every mount), then the MR damper's runs on the six-axis isolator
+    `Schedule`, the same on every mount), then ``anfis`` (`uavdamp.study.payload_anfis`) when it also has the
+    payload ANFIS, its decisions as ``anfis_schedule``, then the MR damper's runs on the six-axis isolator
     (`uavdamp.study.payload_mr`) with ``payload.mr.enabled``; {} without laws. `setup`: the payload comparison's.
     Every law body of every mount feeds the gimbal side by side."""
     s = setup.section
@@ -168,13 +167,15 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
         return {}
     plan = schedule(t, moved, setup.table, s.schedule) if setup.table is not None else None
     per_sample = None if plan is None else plan.per_sample
-    names = law_names(s) + ["scheduled"] * (plan is not None)
-    c_on, mean = law_c_on(s) + [math.nan] * (plan is not None), [math.nan] * len(names)
-    if plan is not None:
-        mean[-1] = float(np.mean(per_sample[window_mask(t, s.settle_s, s.duration_s)]))
+    learnt = replanned(plan, t, setup.anfis, s.schedule) if plan is not None and setup.anfis is not None else None
+    planned = {name: p for name, p in (("scheduled", plan), ("anfis", learnt)) if p is not None}
+    names = law_names(s) + list(planned)
+    settled = window_mask(t, s.settle_s, s.duration_s)
+    c_on = law_c_on(s) + [math.nan] * len(planned)
+    mean = [math.nan] * len(law_names(s)) + [float(np.mean(p.per_sample[settled])) for p in planned.values()]
     cells, bodies, shares = [], [], []
     for mount in law_mounts(s):
-        found, on = _mount_laws(s, mount, t, moved, per_sample)
+        found, on = _mount_laws(s, mount, t, moved, [p.per_sample for p in planned.values()])
         cells += [(s.mounts.index(mount), k) for k in range(len(names))]
         bodies, shares = bodies + found, shares + on
     found, rows = _mr_laws(s, t, moved, per_sample)
@@ -190,7 +191,7 @@ def law_values(setup, t: np.ndarray, moved: MountMotion) -> dict[str, np.ndarray
             out[name][cell] = value
         out["on_fraction"][cell] = on
     out |= {"c_on": np.array(c_on), "damping_mean": np.array(mean), "name": np.array(names)}
-    return out | ({"schedule": plan} if plan is not None else {})
+    return out | ({"schedule": plan} if plan is not None else {}) | ({"anfis_schedule": learnt} if learnt else {})
 
 
 def _on_mounts(attrs: dict) -> dict:
@@ -203,7 +204,7 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
     """(data variables law_NAME (mount, law) or (law,), the law coordinate) of `law_values`' output for a dataset."""
     if not values:
         return {}, {}
-    extra = ("on_fraction", "c_on", "damping_mean", "name", "schedule")
+    extra = ("on_fraction", "c_on", "damping_mean", "name", "schedule", "anfis_schedule")
     data = {f"law_{k}": (("mount", "law"), v, _on_mounts(metric_attrs(k))) for k, v in values.items() if k not in extra}
     data["law_on_fraction"] = (
         ("mount", "law"),
@@ -225,8 +226,9 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
     text = (
         "semi-active law on a six-axis isolator's elements (six_axis, wire_rope), the gimbal on it: on-off skyhook "
         f"between c_on and c_off {section.c_off:g} N s m-1{lag}; scheduled: C from the tracked lines through the "
-        "payload table; mr_*: a Spencer MR damper along each element's x, y, z (payload.mr; six_axis only), held "
-        "at 0 or 2.25 V, on-off skyhook on the voltage, or the scheduled law's C as a voltage"
+        "payload table; anfis: the payload ANFIS's C from two DOFs' tracked frequencies; mr_*: a Spencer MR "
+        "damper along each element's x, y, z (payload.mr; six_axis only), held at 0 or 2.25 V, on-off skyhook on "
+        "the voltage, or the scheduled law's C as a voltage"
     )
     coords = {"law": ("law", [str(n) for n in values["name"]], {"units": "1", "long_name": text})}
     if "schedule" in values:
@@ -247,5 +249,11 @@ def law_variables(values: dict[str, np.ndarray], section) -> tuple[dict, dict]:
             ("update_time", "dof"),
             plan.lines[:, :, 1],
             {"units": "1", "long_name": "its amplitude: m (x, y, z), rad (rotations)"},
+        )
+    if "anfis_schedule" in values:
+        data["anfis_damping"] = (
+            ("update_time",),
+            values["anfis_schedule"].damping,
+            {"units": "N s m-1", "long_name": "the payload ANFIS's C from this update on (every element)"},
         )
     return data, coords

@@ -143,9 +143,17 @@ def schedule(time: np.ndarray, mount: MountMotion, table: Table, section: Schedu
     times = np.arange(0.0, t[-1] + 1e-9, section.update_period)
     band = (float(table.freq[0]), float(table.freq[-1]))
     lines = np.stack([dominant_lines(t, u, tk, section.window, band) for tk in times])
-    damping = np.array([choose(table, found, section.initial_damping) for found in lines])
-    held = np.searchsorted(times, t + 1e-9 * section.update_period, side="right") - 1
-    return Schedule(times, damping, lines, damping[held])
+    return replanned(Schedule(times, None, lines, None), time, lambda found, c: choose(table, found, c), section)
+
+
+def replanned(plan: Schedule, time: np.ndarray, law, section: ScheduleSection) -> Schedule:
+    """`plan`'s update times and lines with the C of `law` (lines (6, 2), fallback N s m-1) -> C N s m-1 at each
+    update (fallback ``initial_damping_n_s_m``), held over `time` (s) until the next: another law on the same
+    tracked lines (`uavdamp.study.payload_anfis.AnfisLaw`)."""
+    damping = np.array([law(found, section.initial_damping) for found in plan.lines])
+    t = np.asarray(time, dtype=float)
+    held = np.searchsorted(plan.times, t + 1e-9 * section.update_period, side="right") - 1
+    return Schedule(plan.times, damping, plan.lines, damping[held])
 
 
 def scheduled_run(isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, per_sample: np.ndarray):

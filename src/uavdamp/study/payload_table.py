@@ -117,6 +117,7 @@ def check(section, where: str = "payload.table") -> None:
     ok = fastest <= limit
     rule = f"({limit} s) leaves no damping of payload.table: the isolator's shortest decay time is {fastest:.3g} s"
     require(ok, "payload.schedule.max_decay_time_s", rule)
+    section.anfis.check(table.freq.array())
 
 
 def amplitudes(table: TableSection) -> np.ndarray:
