@@ -7,7 +7,8 @@ isolator's rocking modes set which damping wins?
 The gimbal on the six-axis isolator under each study case (rebuilt over `--duration` s from the helicopter runs in
 DIR, default reports/helicopter/runs of a run of `all`, as the excitation stage builds it) and each of
 ``payload.sources``, for `--duration` s scored from `--settle` s (the stage: 5 s from 1 s), at the constant damping
-candidates, under skyhook and under the scheduled law with the config's payload table: line-of-sight rms and
+candidates, under skyhook, under the scheduled law with the config's payload table and under the payload ANFIS
+(`--anfis`, default reports/payload/anfis_model.nc of a run of `all`): line-of-sight rms and
 detrended rms (µrad) per input as a Markdown table, the 5 s run's beside it, and the gimbal's rms on a still mount
 over the same window (its sensor-noise floor); on the six-axis isolator also the MR damper's four runs
 (`uavdamp.study.payload_mr`). `--mount wire_rope` prints the constant C and the laws on the
@@ -24,6 +25,7 @@ import dataclasses
 from payload_sweep import merged
 
 from uavdamp import io
+from uavdamp.anfis.damping import DampingModel
 from uavdamp.camera.optics import CameraModel
 from uavdamp.platform import PlatformParams
 from uavdamp.settings import parse, view
@@ -46,10 +48,10 @@ def cases(config: dict, duration: float, runs_dir: str):
     return excitation.cases_dataset(runs, options, {}, {})
 
 
-def row(section, platform, camera, table, t, moved, mount: str = "six_axis") -> list[str]:
-    """The cells of one input, rms / detrended (µrad): each constant C, the best skyhook (by rms) and the scheduled
-    law (its mean C), all on `mount`."""
-    ds = payload.compare_payloads(t, moved, section, platform, camera, table).sel(mount=mount)
+def row(section, platform, camera, table, t, moved, mount: str = "six_axis", model=None) -> list[str]:
+    """The cells of one input, rms / detrended (µrad): each constant C, the best skyhook (by rms), the scheduled
+    law and the payload ANFIS `model` (their mean C), all on `mount`."""
+    ds = payload.compare_payloads(t, moved, section, platform, camera, table, model).sel(mount=mount)
     own = ds.sel(payload="gimbal")
     cells = [
         f"{a * URAD:.0f} / {b * URAD:.0f}"
@@ -59,9 +61,10 @@ def row(section, platform, camera, table, t, moved, mount: str = "six_axis") -> 
     k = min(sky, key=lambda j: float(ds.law_los_std.values[j]))
     rms, flat = float(ds.law_los_std.values[k]) * URAD, float(ds.law_los_detrended_std.values[k]) * URAD
     cells.append(f"{rms:.0f} / {flat:.0f} ({float(ds.law_c_on.values[k]):g})")
-    s = ds.sel(law="scheduled")
-    rms, flat = float(s.law_los_std) * URAD, float(s.law_los_detrended_std) * URAD
-    cells.append(f"{rms:.0f} / {flat:.0f} ({float(s.law_damping_mean):.2g})")
+    for law in ("scheduled", "anfis"):
+        s = ds.sel(law=law)
+        rms, flat = float(s.law_los_std) * URAD, float(s.law_los_detrended_std) * URAD
+        cells.append(f"{rms:.0f} / {flat:.0f} ({float(s.law_damping_mean):.2g})")
     for name in MR_LAWS if "mr_off" in ds.law.values and mount == "six_axis" else ():
         mr = ds.sel(law=name)
         cells.append(f"{float(mr.law_los_std) * URAD:.0f} / {float(mr.law_los_detrended_std) * URAD:.0f}")
@@ -78,7 +81,9 @@ def main() -> None:
     parser.add_argument("--cases", default="reports/excitation/cases.nc", help="the stage's own 5 s cases")
     parser.add_argument("--mount", default="six_axis", choices=["six_axis", "wire_rope"], help="the constant C's")
     parser.add_argument("--input", action="append", default=[], help="only this input (repeatable; default all)")
+    parser.add_argument("--anfis", default="reports/payload/anfis_model.nc", help="the payload ANFIS of a run")
     args = parser.parse_args()
+    model = DampingModel.from_dataset(io.open_dataset(args.anfis))
     config = merged(args.configs)
     platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
     base = parse(payload.PayloadSection, config["payload"], "payload").with_camera(platform.structure)
@@ -88,7 +93,7 @@ def main() -> None:
     table = payload_table.table_dataset(base)
     long = dataclasses.replace(base, duration_s=args.duration, settle_s=args.settle)
     head = ["input", "run", *[f"{args.mount} C {c:g}" for c in base.damping], "best skyhook (c_on)"]
-    head += ["scheduled (mean C)"]
+    head += ["scheduled (mean C)", "ANFIS (mean C)"]
     head += [f"MR {n[3:]}" for n in MR_LAWS] if base.mr.enabled and args.mount == "six_axis" else []
     head += ["still mount (rms)"]
     print("| " + " | ".join(head) + " |\n|" + "---|" * len(head))
@@ -108,7 +113,7 @@ def main() -> None:
             else:
                 source = parse(StatedSource, config["sources"][name], f"sources.{name}")
                 t, moved, _ = motion(source, section.duration_s)
-            cells = row(section, platform, camera, table, t, moved, args.mount)
+            cells = row(section, platform, camera, table, t, moved, args.mount, model)
             print(f"| {name} | {label} | " + " | ".join(cells) + " |", flush=True)
 
 
