@@ -137,7 +137,9 @@ def test_tracked_frequencies_of_case1_sit_at_the_rotor_frequency(comparison):
     assert np.nanmedian(y) == pytest.approx(44.4 / (2 * np.pi), rel=0.03)
 
 
-def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
+def test_anfis_edit_reruns_only_the_two_anfis_and_the_stages_they_feed(quick_run, tmp_path):
+    """The anfis section trains the study's ANFIS and the payload's: an edit reruns those, the study, the payload
+    stage and the summary, not the grid or the tables."""
     config = yaml.safe_load((quick_run / "config" / "quick.yaml").read_text())
     config["anfis"]["epochs"] = config["anfis"]["epochs"] + 7
     edited = quick_run / "config" / "quick_anfis_edit.yaml"
@@ -145,7 +147,8 @@ def test_anfis_edit_reruns_only_anfis_and_study(quick_run, tmp_path):
     edit = ("--configfile", str(edited.relative_to(quick_run)), "config/plugin.yaml")  # the run's plug-in kept
     result = snakemake_dry(quick_run, "-n", "-j1", "all", *edit)
     assert result.returncode == 0, result.stderr[-3000:]
-    assert planned_rules(result) == {"anfis", "study", "summary", "all"}, result.stdout[-3000:]
+    expected = {"anfis", "study", "payload_anfis", "payload", "summary", "all"}
+    assert planned_rules(result) == expected, result.stdout[-3000:]
 
 
 def test_a_new_strategy_and_metric_reach_the_output(quick_config, monkeypatch):

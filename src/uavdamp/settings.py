@@ -23,7 +23,12 @@ import typing
 from collections.abc import Mapping
 from typing import Any, TypeVar
 
+import yaml
+
 T = TypeVar("T")
+# the safe YAML loader config files and the schema are read with: libyaml's where PyYAML has it (the same documents
+# and error marks, about ten times faster; every Snakemake start reads them)
+SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 _MISSING = dataclasses.MISSING
 
 # old dotted key (fnmatch pattern: * for a name such as a case's) -> its new name (keys renamed to carry their unit);

@@ -20,7 +20,7 @@ import yaml
 from uavdamp import plugins
 from uavdamp.integrity import RUN_ATTR, now
 from uavdamp.io import PROVENANCE_ENV, package_versions
-from uavdamp.settings import ConfigError
+from uavdamp.settings import SAFE_LOADER, ConfigError
 
 DEBUG_ENV = "UAVDAMP_DEBUG"  # set to 1: a config error shows its traceback too
 
@@ -60,7 +60,7 @@ def check_schema(config: dict, schema_path: str | os.PathLike) -> None:
 
     jsonschema's most relevant error only, in one line (Snakemake's `validate` prints the whole schema)."""
 
-    schema = yaml.safe_load(Path(schema_path).read_text())
+    schema = yaml.load(Path(schema_path).read_text(), Loader=SAFE_LOADER)  # noqa: S506 (libyaml's safe loader)
     error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(schema).iter_errors(config))
     if error is not None:
         key = ".".join(str(p) for p in error.absolute_path) or "config"

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import yaml
 
-from uavdamp.settings import ConfigError
+from uavdamp.settings import SAFE_LOADER, ConfigError
 
 
-class _StrictLoader(yaml.SafeLoader):
+class _StrictLoader(SAFE_LOADER):
     """A safe YAML loader that refuses a key given twice in one mapping."""
 
 
