@@ -147,15 +147,15 @@ def _points(quick_config, name):
 
 
 def test_good_chunk_loads(quick_run, quick_chunks, quick_config):
-    path = quick_chunks / "1-of-3.nc"
+    path = quick_chunks / "1-of-2.nc"
     ds = chunks.load_chunk(path, points=_points(quick_config, path.name), config=_config(quick_run, path))
     assert ds.sizes["point"] == _points(quick_config, path.name).size
 
 
 @pytest.mark.parametrize("damage", ["truncated", "zero-criterion", "other-config", "other-points"])
 def test_bad_chunk_is_named_with_its_rebuild(quick_run, quick_chunks, quick_config, tmp_path, damage):
-    source = quick_chunks / "2-of-3.nc"
-    path = tmp_path / "2-of-3.nc"
+    source = quick_chunks / "2-of-2.nc"
+    path = tmp_path / "2-of-2.nc"
     config, points = _config(quick_run, source), _points(quick_config, source.name)
     if damage == "truncated":
         path.write_bytes(source.read_bytes()[:1000])
@@ -185,7 +185,7 @@ def test_gather_refuses_a_damaged_chunk_in_the_pipeline(quick_run, tmp_path):
 
     work = copy_workflow(tmp_path)
     shutil.copytree(quick_run / "reports-quick" / "reference_table", work / "reports-quick" / "reference_table")
-    bad = work / "reports-quick/reference_table/chunks/3-of-3.nc"
+    bad = work / "reports-quick/reference_table/chunks/2-of-2.nc"
     ds = io.open_dataset(bad)
     name = next(v for v in ds.data_vars if v.startswith("criterion"))
     ds[name].values[..., 0] = 0.0
@@ -198,6 +198,6 @@ def test_gather_refuses_a_damaged_chunk_in_the_pipeline(quick_run, tmp_path):
     )
     log = (work / "reports-quick/logs/reference_table/gather.log").read_text()
     assert result.returncode != 0
-    assert "3-of-3.nc" in log and "is not finite and positive" in log, log[-2000:]
+    assert "2-of-2.nc" in log and "is not finite and positive" in log, log[-2000:]
     # the run stops at the gather: no grid or table made from the bad chunk
     assert not (work / "reports-quick/reference_table/grid.nc").exists()

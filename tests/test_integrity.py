@@ -18,7 +18,7 @@ from uavdamp.results import verify
 
 OUT = "reports-quick"
 DAMAGED = {  # a stage's output and a float variable of it
-    "reference_table/chunks/2-of-3.nc": "criterion_displacement",
+    "reference_table/chunks/2-of-2.nc": "criterion_displacement",
     "anfis/model.nc": "mf_centre_0",
     "study/comparison.nc": "camera_displacement",
 }
@@ -56,7 +56,7 @@ def test_a_truncated_stage_output_is_refused_naming_the_file(quick_run, tmp_path
 def test_damaged_chunk_metadata_names_the_chunk(quick_run, tmp_path):
     """16 bytes flipped inside the chunk's stored config (an HDF5 attribute, not covered by Fletcher-32): the
     gather's check names the chunk and its rebuild (before: an AttributeError from netCDF4 naming nothing)."""
-    path = _copy(quick_run, "reference_table/chunks/2-of-3.nc", tmp_path)
+    path = _copy(quick_run, "reference_table/chunks/2-of-2.nc", tmp_path)
     good = io.open_dataset(path)
     config, points = json.loads(good.attrs["config_reference_table"]), good.point.values
     data = bytearray(path.read_bytes())

@@ -20,7 +20,7 @@ OUTPUTS = [
     ("helicopter_sensitivity_run", "reports-quick/helicopter/sensitivity/baseline.nc"),
     ("helicopter_sensitivity", "reports-quick/figures/helicopter_sensitivity.png"),
     ("platform_modes", "reports-quick/figures/platform_response.png"),
-    ("reference_table_chunk", "reports-quick/reference_table/chunks/2-of-3.nc"),
+    ("reference_table_chunk", "reports-quick/reference_table/chunks/2-of-2.nc"),
     ("reference_table", "reports-quick/reference_table/grid.nc"),
     ("anfis", "reports-quick/anfis/rules.txt"),
     ("anfis", "reports-quick/anfis/rules.md"),
