@@ -1,9 +1,13 @@
 HELICOPTER_SENSITIVITY = config["helicopter"]["sensitivity"]
-# one run per value: "baseline" and "<parameter>=<value>" (uavdamp.helicopter.sensitivity.parse_run_name reads them)
+# one run per value: "baseline" and "<parameter>=<value>" (uavdamp.helicopter.sensitivity.parse_run_name reads them),
+# sorted by parameter and value: the one job's params list them, and the config's key order must not rerun it
 SENSITIVITY_RUNS = ["baseline"] + [
-    f"{parameter}={float(value):g}"
-    for parameter, values in HELICOPTER_SENSITIVITY["parameters"].items()
-    for value in values
+    f"{parameter}={value:g}"
+    for parameter, value in sorted(
+        (p, float(v))
+        for p, values in HELICOPTER_SENSITIVITY["parameters"].items()
+        for v in values
+    )
 ]
 
 
