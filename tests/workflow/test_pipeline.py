@@ -8,9 +8,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+import compliance_checker.cf.util as cf_util
 import numpy as np
 import pytest
 import yaml
+from compliance_checker.cf import cf_base
 from compliance_checker.runner import CheckSuite, ComplianceChecker
 from conftest import QUICK_RUN_ARGS, ROOT, copy_workflow, snakemake_dry
 
@@ -112,11 +114,22 @@ def _cf_errors(path: Path, report: Path) -> tuple[int, list]:
     return len(result["high_priorities"]), [c for c in result["high_priorities"] if c["value"][0] < c["value"][1]]
 
 
-def test_every_netcdf_passes_cf_checker(quick_run, tmp_path):
+def _geophysical_vars(self, ds, refresh=False):
+    """`CFBaseCheck._find_geophysical_vars` with its cache hit: compliance-checker 6.1 stores the list under
+    str(ds) and looks it up under ds, so it recomputed it about nine times a file (the same reports on the quick run's
+    47 files, 14.6 -> 9.5 s, measured)."""
+    key = str(ds)
+    if refresh or key not in self._geophysical_vars:
+        self._geophysical_vars[key] = cf_util.get_geophysical_variables(ds)
+    return self._geophysical_vars[key]
+
+
+def test_every_netcdf_passes_cf_checker(quick_run, tmp_path, monkeypatch):
     """Every NetCDF the quick run writes passes compliance-checker's CF 1.11 high-priority checks (its runner in this
     process, the checkers loaded once: one `cchecker.py` process per file cost 1.5 s of start-up each)."""
     files = sorted((quick_run / "reports-quick").rglob("*.nc"))
     assert files
+    monkeypatch.setattr(cf_base.CFBaseCheck, "_find_geophysical_vars", _geophysical_vars)
     CheckSuite().load_all_available_checkers()
     for k, path in enumerate(files):
         checks, errors = _cf_errors(path, tmp_path / f"{k}.json")
