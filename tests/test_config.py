@@ -66,6 +66,16 @@ BAD = {
         {"payload": {"anfis": {"freq_hz": {"start": 1.0, "stop": 120.0, "num": 9, "spacing": "log"}}}},
         "payload.anfis.freq_hz: must lie within payload.table.freq_hz's [2, 120] Hz, got 1-120 Hz",
     ),
+    "payload-anfis-fewer-rows-than-folds": (
+        {
+            "payload": {
+                "anfis": {"freq_hz": {"start": 7.0, "stop": 7.0, "num": 1}},
+                "table": {"stiffness_n_m": {"values": [500.0]}},
+            }
+        },
+        "payload.anfis.freq_hz: the payload ANFIS's 1 x 1 x 1 = 1 reference cells (payload.anfis.freq_hz per DOF, "
+        "payload.table.stiffness_n_m) give 0 training rows, fewer than anfis.selection.folds (3)",
+    ),
     "payload-unknown-source": (
         {"payload": {"sources": ["nowhere"]}},
         "payload.sources[0]: 'nowhere' is not a name of the sources section",

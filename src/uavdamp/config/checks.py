@@ -158,7 +158,8 @@ def _check_run_length(config: Config) -> None:
 
 def _check_folds(config: Config) -> None:
     """anfis.selection.folds at most the training rows the reference table can give (every (f_y, f_z, K) point a
-    row, anfis.train_fraction of them for training: `uavdamp.anfis.training.split`; failed points only remove)."""
+    row, anfis.train_fraction of them for training: `uavdamp.anfis.training.split`; failed points only remove), and
+    the payload ANFIS's reference likewise (every (f_a, f_b, K) cell a row: `uavdamp.study.payload_anfis`)."""
 
     grid, anfis = config.reference_table, config.anfis
     shape = [axis.array().size for axis in (grid.freq_y, grid.freq_z, grid.stiffness)]
@@ -170,6 +171,17 @@ def _check_folds(config: Config) -> None:
         f"{anfis.selection.folds} folds need as many training rows; the reference table gives at most "
         f"{' x '.join(map(str, shape))} = {rows} rows (reference_table.freq_y_hz, freq_z_hz, stiffness_n_m), "
         f"{train} of them training rows (anfis.train_fraction {anfis.train_fraction})",
+    )
+    payload = config.payload
+    shape = [payload.anfis.freq.array().size] * 2 + [payload.table.stiffness.array().size]
+    rows = int(np.prod(shape))
+    train = int(split(rows, anfis.train_fraction, anfis.seed).sum()) if rows > 1 else 0
+    require(
+        anfis.selection.folds <= train,
+        "payload.anfis.freq_hz",
+        f"the payload ANFIS's {' x '.join(map(str, shape))} = {rows} reference cells (payload.anfis.freq_hz per DOF, "
+        f"payload.table.stiffness_n_m) give {train} training rows, fewer than anfis.selection.folds "
+        f"({anfis.selection.folds})",
     )
 
 
