@@ -14,7 +14,8 @@ table and grid, inputs ``AnfisPayloadSection.inputs``); its regret is the predic
 The law (``anfis`` beside ``scheduled`` in the payload comparison): at every update of the scheduled law's timing
 (``payload.schedule``), the dominant lines of the two DOFs (`payload_schedule.dominant_lines`), the ANFIS's C at
 the isolator's z stiffness, clamped to the eligible dampings' range; before both DOFs have a line (or on an input
-without one, such as a log that records no rotation), ``initial_damping_n_s_m``, as the scheduled law without lines.
+without one, such as a stated source, which carries no rotation), ``initial_damping_n_s_m``, as the scheduled law
+without lines.
 Unlike the scheduled law it reads two DOFs' frequencies only, not their amplitudes (the paper's inputs).
 """
 
@@ -41,7 +42,8 @@ class AnfisPayloadSection:
     """The payload ANFIS's inputs (``payload.anfis``)."""
 
     # the mount DOFs whose dominant frequencies the ANFIS reads (choice: the paper's two translations, which every
-    # input has; x and pitch leave the logs, which record no rotation, at the initial C: docs/stages/payload.md)
+    # input has; x and pitch leave the stated sources, which carry no rotation, at the initial C:
+    # docs/stages/payload.md)
     dofs: tuple[str, ...] = setting(default=("x", "y"))
     freq: Axis = setting("freq_hz", default=Axis(start=2.0, stop=120.0, num=33, spacing="log"))  # Hz, per DOF
 
