@@ -163,8 +163,7 @@ def _check_folds(config: Config) -> None:
 
     grid, anfis = config.reference_table, config.anfis
     shape = [axis.array().size for axis in (grid.freq_y, grid.freq_z, grid.stiffness)]
-    rows = int(np.prod(shape))
-    train = int(split(rows, anfis.train_fraction, anfis.seed).sum()) if rows > 1 else 0
+    rows, train = _training_rows(shape, anfis)
     require(
         anfis.selection.folds <= train,
         "anfis.selection.folds",
@@ -174,8 +173,7 @@ def _check_folds(config: Config) -> None:
     )
     payload = config.payload
     shape = [payload.anfis.freq.array().size] * 2 + [payload.table.stiffness.array().size]
-    rows = int(np.prod(shape))
-    train = int(split(rows, anfis.train_fraction, anfis.seed).sum()) if rows > 1 else 0
+    rows, train = _training_rows(shape, anfis)
     require(
         anfis.selection.folds <= train,
         "payload.anfis.freq_hz",
@@ -183,6 +181,12 @@ def _check_folds(config: Config) -> None:
         f"payload.table.stiffness_n_m) give {train} training rows, fewer than anfis.selection.folds "
         f"({anfis.selection.folds})",
     )
+
+
+def _training_rows(shape: list[int], anfis) -> tuple[int, int]:
+    """(rows, training rows) of a reference of `shape` cells under the anfis section's split."""
+    rows = int(np.prod(shape))
+    return rows, int(split(rows, anfis.train_fraction, anfis.seed).sum()) if rows > 1 else 0
 
 
 def _check_mounts(config: Config) -> None:

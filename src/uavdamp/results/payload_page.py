@@ -109,6 +109,16 @@ def _mr_finding(ds: xr.Dataset, name) -> str:
     )
 
 
+# the laws that plan C from the tracked lines: (their words, what the percentage is against)
+PLANNED_LAWS = {
+    "scheduled": (
+        "The scheduled law there (C from the tracked lines through the payload table",
+        " against the best constant C",
+    ),
+    "anfis": ("The payload ANFIS there (C from two DOFs' tracked frequencies", ""),
+}
+
+
 def _skyhook_finding(ds: xr.Dataset, name) -> str:
     """Per mount the laws ran on, the best skyhook run, the scheduled law and the payload ANFIS against the
     gimbal's best constant C on that mount ('' without)."""
@@ -122,19 +132,12 @@ def _skyhook_finding(ds: xr.Dataset, name) -> str:
             f" Skyhook on {MOUNT_WORDS[mount]} (gimbal): {fmt(value * 1e6, 3)} µrad at c_on = {fmt(c_on, 3)} N s/m, "
             f"{signed(100 * (value / best - 1), 2)} % against its best constant C ({fmt(best * 1e6, 3)} µrad)."
         )
-        if "scheduled" in ds.law.values:
-            scheduled = ds.sel(input=name, law="scheduled", mount=mount)
-            value, mean = float(scheduled.law_los_std), float(scheduled.law_damping_mean)
-            text += (
-                f" The scheduled law there (C from the tracked lines through the payload table; mean {fmt(mean, 2)} "
-                f"N s/m): {fmt(value * 1e6, 3)} µrad, {signed(100 * (value / best - 1), 2)} % against the best "
-                "constant C."
-            )
-        if "anfis" in ds.law.values:
-            learnt = ds.sel(input=name, law="anfis", mount=mount)
-            value, mean = float(learnt.law_los_std), float(learnt.law_damping_mean)
-            text += (
-                f" The payload ANFIS there (C from two DOFs' tracked frequencies; mean {fmt(mean, 2)} N s/m): "
-                f"{fmt(value * 1e6, 3)} µrad, {signed(100 * (value / best - 1), 2)} %."
-            )
+        for law, (words, tail) in PLANNED_LAWS.items():
+            if law in ds.law.values:
+                run = ds.sel(input=name, law=law, mount=mount)
+                value, mean = float(run.law_los_std), float(run.law_damping_mean)
+                text += (
+                    f" {words}; mean {fmt(mean, 2)} N s/m): {fmt(value * 1e6, 3)} µrad, "
+                    f"{signed(100 * (value / best - 1), 2)} %{tail}."
+                )
     return text
