@@ -270,3 +270,144 @@ rule benchmark_gather:
         extrapolation=EXTRAPOLATION["benchmark"],
     script:
         "../scripts/benchmark_gather.py"
+
+
+# The benchmark on the payload: the gimbal on the payload section's six-axis isolators under every scenario and the
+# stated sources benchmark.payload.sources names, the payload laws tuned on the tuning set and scored on the
+# evaluation set (src/uavdamp/benchmark/payload.py). The payload section's view leaves out what the benchmark
+# replaces (its payloads, mounts, inputs and duration) and its threads.
+from uavdamp.benchmark import payload as benchmark_payload
+
+BENCHMARK_PAYLOAD_MOUNTS = list(
+    BENCHMARK["payload"]["mounts"]
+)  # the runs'; the criterion is the gather's
+BENCHMARK_PAYLOAD_SOURCES = list(BENCHMARK["payload"]["sources"])
+BENCHMARK_PAYLOAD_SCENARIOS = BENCHMARK_SCENARIOS + BENCHMARK_PAYLOAD_SOURCES
+BENCHMARK_PAYLOAD_SPLIT = benchmark_payload.split(
+    BENCHMARK_SPLIT,
+    BENCHMARK_PAYLOAD_SOURCES,
+    BENCHMARK["split"]["tuning_fraction"],
+    BENCHMARK["split"]["seed"],
+)
+BENCHMARK_PAYLOAD_SECTION = canonical(
+    {
+        k: v
+        for k, v in config["payload"].items()
+        if k not in ("payloads", "mounts", "sources", "duration_s", "threads")
+    }
+)
+BENCHMARK_PAYLOAD_RUNS = (
+    expand(
+        f"{OUT}/benchmark/payload/runs/{{scenario}}.nc",
+        scenario=BENCHMARK_PAYLOAD_SCENARIOS,
+    )
+    if BENCHMARK["payload"]["enabled"]
+    else []
+)
+
+
+def benchmark_payload_input(scenario):
+    """{path: rule digest} of a payload run's scenario file ({} for a stated source: the job generates it)."""
+    if scenario in BENCHMARK_PAYLOAD_SOURCES:
+        return {}
+    return {
+        f"{OUT}/benchmark/scenarios/{scenario}.nc": f"benchmark_scenario:{scenario}"
+    }
+
+
+for _s in BENCHMARK_PAYLOAD_SCENARIOS:
+    digest(
+        f"benchmark_payload_run:{_s}",
+        {
+            "mounts": BENCHMARK_PAYLOAD_MOUNTS,
+            "duration_s": BENCHMARK["duration_s"],
+            "payload": BENCHMARK_PAYLOAD_SECTION,
+            "camera": CAMERA,
+            "platform": PLATFORM_MODEL,
+            "source": canonical(
+                config["sources"][_s] if _s in BENCHMARK_PAYLOAD_SOURCES else {}
+            ),
+        },
+        *benchmark_payload_input(_s).values(),
+        "payload_table",
+        "payload_anfis",
+    )
+
+
+rule benchmark_payload_run:
+    input:
+        scenario=lambda wc: list(benchmark_payload_input(wc.scenario)),
+        table=f"{OUT}/payload/table.nc",
+        model=f"{OUT}/payload/anfis_model.nc",
+    output:
+        f"{OUT}/benchmark/payload/runs/{{scenario}}.nc",
+    log:
+        f"{OUT}/logs/benchmark_payload_run_{{scenario}}.log",
+    benchmark:
+        f"{OUT}/benchmarks/benchmark_payload_run_{{scenario}}.tsv"
+    wildcard_constraints:
+        scenario="|".join(BENCHMARK_PAYLOAD_SCENARIOS),
+    conda:
+        ENV
+    params:
+        digest=lambda wc: DIGESTS[f"benchmark_payload_run:{wc.scenario}"],
+        expects=lambda wc: expects(
+            {
+                **benchmark_payload_input(wc.scenario),
+                f"{OUT}/payload/table.nc": "payload_table",
+                f"{OUT}/payload/anfis_model.nc": "payload_anfis",
+            }
+        ),
+        mounts=BENCHMARK_PAYLOAD_MOUNTS,
+        duration_s=BENCHMARK["duration_s"],
+        payload=BENCHMARK_PAYLOAD_SECTION,
+        camera=CAMERA,
+        platform=PLATFORM_MODEL,
+        # a stated source's own keys (sources.NAME) for a source scenario, {} for the others
+        source=lambda wc: canonical(
+            config["sources"][wc.scenario]
+            if wc.scenario in BENCHMARK_PAYLOAD_SOURCES
+            else {}
+        ),
+    script:
+        "../scripts/benchmark_payload_run.py"
+
+
+digest(
+    "benchmark_payload_gather",
+    {"split": BENCHMARK_PAYLOAD_SPLIT, "criterion": BENCHMARK["payload"]["criterion"]},
+    *[f"benchmark_payload_run:{s}" for s in BENCHMARK_PAYLOAD_SCENARIOS],
+)
+
+
+rule benchmark_payload_gather:
+    input:
+        runs=BENCHMARK_PAYLOAD_RUNS,
+    output:
+        criteria=f"{OUT}/benchmark/payload/criteria.nc",
+        table=f"{OUT}/benchmark/payload/table.md",
+        figure=report(
+            f"{OUT}/figures/benchmark_payload.png",
+            caption="../report/benchmark_payload.rst",
+            category="Benchmark",
+            subcategory="Payload",
+            labels={"figure": "J per damping law on the gimbal's isolator"},
+        ),
+    log:
+        f"{OUT}/logs/benchmark_payload_gather.log",
+    benchmark:
+        f"{OUT}/benchmarks/benchmark_payload_gather.tsv"
+    conda:
+        ENV
+    params:
+        digest=DIGESTS["benchmark_payload_gather"],
+        expects=expects(
+            {
+                f"{OUT}/benchmark/payload/runs/{s}.nc": f"benchmark_payload_run:{s}"
+                for s in BENCHMARK_PAYLOAD_SCENARIOS
+            }
+        ),
+        split=BENCHMARK_PAYLOAD_SPLIT,
+        criterion=BENCHMARK["payload"]["criterion"],
+    script:
+        "../scripts/benchmark_payload_gather.py"

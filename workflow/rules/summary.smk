@@ -68,12 +68,28 @@ rule summary:
         "../scripts/summary.py"
 
 
-digest("summary_with_benchmark", {}, "summary", "benchmark_gather")
+# the benchmark on the payload's criteria, when it runs (benchmark.payload.enabled)
+BENCHMARK_PAYLOAD_SUMMARY = (
+    {
+        "benchmark_payload": f"{OUT}/benchmark/payload/criteria.nc",
+        "figure_benchmark_payload": f"{OUT}/figures/benchmark_payload.png",
+    }
+    if BENCHMARK["payload"]["enabled"]
+    else {}
+)
+digest(
+    "summary_with_benchmark",
+    {},
+    "summary",
+    "benchmark_gather",
+    *(["benchmark_payload_gather"] if BENCHMARK_PAYLOAD_SUMMARY else []),
+)
 
 
 use rule summary as summary_with_benchmark with:
     input:
         **{f"figure_{role}": f"{OUT}/{path}" for role, path in SUMMARY_FIGURES.items()},
+        **BENCHMARK_PAYLOAD_SUMMARY,
         figure_benchmark=f"{OUT}/figures/benchmark_criteria.png",
         benchmark=f"{OUT}/benchmark/criteria.nc",
         vibration=f"{OUT}/helicopter/vibration.nc",
@@ -97,5 +113,13 @@ use rule summary as summary_with_benchmark with:
     params:
         digest=DIGESTS["summary_with_benchmark"],
         expects=expects(
-            {**SUMMARY_EXPECTS, f"{OUT}/benchmark/criteria.nc": "benchmark_gather"}
+            {
+                **SUMMARY_EXPECTS,
+                f"{OUT}/benchmark/criteria.nc": "benchmark_gather",
+                **{
+                    path: "benchmark_payload_gather"
+                    for path in BENCHMARK_PAYLOAD_SUMMARY.values()
+                    if path.endswith(".nc")
+                },
+            }
         ),

@@ -12,6 +12,7 @@ import numpy as np
 
 from uavdamp import plugins
 from uavdamp.anfis.training import split
+from uavdamp.benchmark.scenarios import scenario_specs
 from uavdamp.config import budget, flight_logs
 from uavdamp.config.load import Config, load
 from uavdamp.contract import is_multiple
@@ -63,6 +64,7 @@ def check_config(config: Config, benchmark: bool = False) -> dict:
     _check_folds(config)
     _check_study(config)
     _check_payload(config)
+    _check_benchmark_payload(config)
     _check_levels(config)
     _check_source_bands(config)
     _check_mounts(config)
@@ -354,6 +356,29 @@ def _check_payload(config: Config) -> None:
             "payload.duration_s",
             f"({config.payload.duration_s} s) must exceed {need:.2f} s for payload.sources[{k}] {name!r}: a "
             "multirotor source is scaled to its VIBE level, measured after the level's 2 Hz filter settles",
+        )
+
+
+def _check_benchmark_payload(config: Config) -> None:
+    """The benchmark on the payload scores its runs after payload.settle_s, within each scenario's duration."""
+    bench = config.benchmark
+    require(
+        not bench.payload.enabled or config.payload.settle_s < bench.duration_s,
+        "benchmark.duration_s",
+        f"({bench.duration_s} s) must exceed payload.settle_s ({config.payload.settle_s} s) with "
+        "benchmark.payload.enabled: the payload runs are scored after it",
+    )
+    taken = set(scenario_specs(bench))
+    need = 2 * vibe_settle_s()  # a multirotor source is scaled to its VIBE, measured after the filter settles
+    for k, name in enumerate(bench.payload.sources):
+        key = f"benchmark.payload.sources[{k}]"
+        require(name in config.sources, key, f"{name!r} is not a stated source ({sorted(config.sources)})")
+        require(name not in taken, key, f"{name!r} is the name of a benchmark scenario: a source needs its own")
+        require(
+            config.sources[name].kind != "multirotor" or bench.duration_s > need,
+            "benchmark.duration_s",
+            f"({bench.duration_s} s) must exceed {need:.2f} s for {key} {name!r}: a multirotor source is scaled to "
+            "its VIBE level, measured after the level's 2 Hz filter settles",
         )
 
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 
 from uavdamp.anfis import AnfisSection
 from uavdamp.benchmark.loop import BenchmarkOptions
+from uavdamp.benchmark.payload import PayloadBenchmark
 from uavdamp.benchmark.scenarios import ScenarioOptions, Split
 from uavdamp.camera.optics import CameraModel
 from uavdamp.config.budget import Budget
@@ -39,12 +40,16 @@ __all__ = ["Config", "ConfigError", "benchmark_options", "load", "study_options"
 
 @dataclass(frozen=True, kw_only=True)
 class BenchmarkSection(BenchmarkOptions, ScenarioOptions):
-    """The config section ``benchmark``: the scenarios (`ScenarioOptions`), the runs (`BenchmarkOptions`), the split."""
+    """The config section ``benchmark``: the scenarios (`ScenarioOptions`), the runs (`BenchmarkOptions`), the split,
+    the benchmark on the payload (`PayloadBenchmark`)."""
 
     split: Split = setting()
     # K or the tracker band outside the reference table's ranges: refused unless true
     # (`uavdamp.config.checks.extrapolation`)
     allow_extrapolation: bool = setting(default=False)
+    payload: PayloadBenchmark = setting(
+        default=PayloadBenchmark()
+    )  # the benchmark on the payload (`uavdamp.benchmark.payload`)
 
     def validate(self) -> None:
         BenchmarkOptions.validate(self)

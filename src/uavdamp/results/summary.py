@@ -16,6 +16,7 @@ strategy, and any dimension a stage adds later), never from a list of names:
     study          per case, stiffness and strategy: camera std, line of sight, blur, stroke needed and whether
                    it fits
     payload        per input and payload: line of sight (µrad) rigid and on each isolator at its best C
+    benchmark_payload  the controller benchmark on the payload: mean / worst J per mount and law (when it has run)
     benchmark      mean / worst J per controller and criterion over the evaluation set (when it has run)
 """
 
@@ -29,7 +30,12 @@ import pandas as pd
 import xarray as xr
 
 from uavdamp.results.page import MISSING, Figure, Page, Table, fmt, signed
-from uavdamp.results.payload_page import payload_findings, payload_table
+from uavdamp.results.payload_page import (
+    benchmark_payload_finding,
+    benchmark_payload_table,
+    payload_findings,
+    payload_table,
+)
 from uavdamp.study import strategies
 
 PAPER_OMEGA_RAD_S = {"y": 44.04, "z": 50.58}  # Marichal et al. 2014, Fig. 3: the fuselage's dominant lines
@@ -309,6 +315,7 @@ FIGURES = {  # role: (title, caption)
     "fuselage": ("The fuselage's vibration", "Motion at the mount and its spectra, imbalanced and balanced rotor."),
     "reference": ("The reference table", "Optimal damping C per input frequency pair and stiffness K."),
     "benchmark": ("Controller benchmark", "Mean and worst J per controller and criterion (J = 1: rigid mount)."),
+    "benchmark_payload": ("Controller benchmark on the payload", "J per damping law and evaluation scenario, gimbal."),
     "payload": ("Payloads and mounts", "Line of sight (µrad) per payload and mount against the isolator's damping."),
 }
 
@@ -335,6 +342,9 @@ def summary_page(outputs: dict[str, xr.Dataset], figures: dict[str, str] | None 
         page.tables.append(payload_table(outputs["payload"]))
     if "benchmark" in outputs:
         page.tables.append(benchmark_table(outputs["benchmark"]))
+    if "benchmark_payload" in outputs:
+        page.findings.append(benchmark_payload_finding(outputs["benchmark_payload"]))
+        page.tables.append(benchmark_payload_table(outputs["benchmark_payload"]))
     return page
 
 

@@ -1,0 +1,109 @@
+"""The controller benchmark on the payload swept over the choices its ranking depends on: the criterion
+(``benchmark.payload.criterion``), the group of scenarios it is read on, and the gimbal's attitude estimator
+(``payload.gimbal.estimator_crossover_hz``).
+
+    python benchmarks/benchmark_payload_sweep.py [RUN_DIR] [--configs config/config.yaml ...]
+                                                 [--estimator-hz 0.159 ...]
+
+Reads the runs a `snakemake -j2 benchmark` wrote (RUN_DIR/benchmark/payload/runs/*.nc, default reports) and gathers
+them again (`uavdamp.benchmark.payload.gather`, the split of the config) for every criterion of
+`uavdamp.benchmark.payload.CRITERIA`; then per group (the helicopter flights, the synthetic inputs at the paper's
+amplitude, the stated sources at flyable levels) the mean J over its evaluation scenarios. With --estimator-hz, runs
+every scenario again with that estimator crossover (the config's other values; joblib over 2 workers: about 1.5 min
+each on 2 cores) and prints the same. Prints Markdown tables of the mean J over the evaluation set per controller
+and the tuned settings; the numbers in docs/stages/benchmark.md come from it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+from pathlib import Path
+
+import numpy as np
+from payload_sweep import merged
+
+from uavdamp import io, parallel
+from uavdamp.anfis.damping import DampingModel
+from uavdamp.benchmark import payload as bench
+from uavdamp.benchmark import scenarios
+from uavdamp.benchmark.runner import case_of
+from uavdamp.camera.optics import CameraModel
+from uavdamp.config.load import load
+from uavdamp.platform import PlatformParams
+from uavdamp.settings import parse, view
+from uavdamp.sources.stated import StatedSource, motion
+from uavdamp.study.payload import PayloadSection
+
+
+def group_of(name: str, sources) -> str:
+    """The scenario's group: helicopter flights, synthetic inputs at the paper's amplitude, stated sources."""
+    return "sources" if name in sources else "helicopter" if name.startswith("heli_") else "synthetic"
+
+
+def table(runs, split: dict, sources, label: str) -> None:
+    """Mean J over the evaluation set per controller for every criterion, overall and per group (Markdown)."""
+    names = [str(r.input.values[0]) for r in runs]
+    groups = sorted({group_of(n, sources) for n in names})
+    first = bench.gather(runs, split, bench.CRITERIA[0])
+    columns = [str(c) for c in first.controller.values]
+    print(f"\n### {label}\n\n| criterion | scenarios | tuned C / c_on | " + " | ".join(columns) + " |")
+    print("|---|---|---|" + "---:|" * len(columns))
+    for criterion in bench.CRITERIA:
+        ds = bench.gather(runs, split, criterion).sel(mount="six_axis")
+        tuned = f"{float(ds.tuned_damping):g} / {float(ds.tuned_c_on):g}"
+        evaluation = ds.set == "evaluation"
+        for group in ["all", *groups]:
+            where = evaluation & (np.array([group in ("all", group_of(n, sources)) for n in names]))
+            n = int(where.sum())
+            mean = ds.J.where(where).mean("scenario")
+            cells = [f"{float(mean.sel(controller=c)):.3g}" for c in columns]
+            print(f"| {criterion} | {group} ({n}) | {tuned} | " + " | ".join(cells) + " |")
+
+
+def rerun(names, config: dict, typed, run_dir: Path, estimator_hz: float) -> list:
+    """Every scenario run again with the gimbal's estimator crossover at `estimator_hz` (Hz)."""
+    platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
+    section = parse(PayloadSection, config["payload"], "payload").with_camera(platform.structure)
+    section = dataclasses.replace(
+        section, gimbal=dataclasses.replace(section.gimbal, estimator_crossover_hz=estimator_hz)
+    )
+    section = bench.benchmark_section(section, typed.benchmark.payload, typed.benchmark.duration_s)
+    camera = parse(CameraModel, config["camera"], "camera")
+    table_ds = io.open_dataset(run_dir / "payload/table.nc")
+    model = DampingModel.from_dataset(io.open_dataset(run_dir / "payload/anfis_model.nc"))
+    tasks = []
+    for name in names:
+        if name in typed.benchmark.payload.sources:
+            source = parse(StatedSource, config["sources"][name], f"sources.{name}")
+            t, moved, _ = motion(source, typed.benchmark.duration_s)
+        else:
+            t, moved = case_of(io.open_dataset(run_dir / f"benchmark/scenarios/{name}.nc"))
+        tasks.append((bench.run_scenario, (name, "", t, moved, section, platform, camera, table_ds, model)))
+    return parallel.run(tasks, 2)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("run_dir", nargs="?", default="reports")
+    parser.add_argument("--configs", nargs="*", default=["config/config.yaml"])
+    parser.add_argument("--estimator-hz", nargs="*", type=float, default=[])
+    args = parser.parse_args()
+    config = merged(args.configs)
+    typed = load(config)
+    b = typed.benchmark
+    base = scenarios.split(scenarios.scenario_specs(b), b.split.tuning_fraction, b.split.seed)
+    split = bench.split(base, b.payload.sources, b.split.tuning_fraction, b.split.seed)
+    run_dir = Path(args.run_dir)
+    runs = [io.open_dataset(run_dir / f"benchmark/payload/runs/{n}.nc") for n in sorted(split)]
+    crossover = typed.payload.gimbal.estimator_crossover_hz
+    table(runs, split, b.payload.sources, f"the run's ({run_dir}): estimator crossover {crossover:g} Hz")
+    for hz in args.estimator_hz:
+        start = time.perf_counter()
+        again = rerun(sorted(split), config, typed, run_dir, hz)
+        table(again, split, b.payload.sources, f"estimator crossover {hz:g} Hz ({time.perf_counter() - start:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,236 @@
+"""The controller benchmark on the payload: tuning on the tuning set, the controllers picked from the runs, J and its
+evaluation mean and worst against hand sums; the section; a still scenario through the real plants."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import load_config, platform_from
+
+from uavdamp.benchmark import payload as bench
+from uavdamp.config.checks import check_config
+from uavdamp.config.load import load
+from uavdamp.contract import MountMotion
+from uavdamp.settings import ConfigError, parse
+from uavdamp.study.payload import PayloadSection
+from uavdamp.study.payload_runs import METRICS
+
+DAMPING = (1.0, 3.0, 10.0)
+LAWS = ("skyhook_3", "skyhook_10", "scheduled")
+
+
+def fake_run(name: str, rigid: float, constants, laws) -> xr.Dataset:
+    """A payload run of one scenario as `compare_inputs` writes it, the gimbal on rigid and six_axis: los_std
+    `rigid` on the rigid mount, `constants` (per C of DAMPING) and `laws` (per law of LAWS) on six_axis; every other
+    metric is 2 x los_std + 1 (so that a pick from the wrong run shows)."""
+    los = np.array([[np.full(len(DAMPING), rigid), constants]], dtype=float)[None]  # (input, payload, mount, damping)
+    law = np.array([[np.full(len(LAWS), np.nan), laws]], dtype=float)  # (input, mount, law)
+    data = {}
+    for metric in METRICS:
+        scale = (1.0, 0.0) if metric == "los_std" else (2.0, 1.0)
+        data[metric] = (("input", "payload", "mount", "damping"), scale[0] * los + scale[1])
+        data[f"law_{metric}"] = (("input", "mount", "law"), scale[0] * law + scale[1])
+    data["floor_los_std"] = (("payload",), [5.0], {"units": "rad", "long_name": "floor"})
+    coords = {
+        "input": [name],
+        "payload": ["gimbal"],
+        "mount": ["rigid", "six_axis"],
+        "damping": list(DAMPING),
+        "law": list(LAWS),
+    }
+    return xr.Dataset(data, coords=coords, attrs={"duration_s": 10.0, "settle_s": 1.0})
+
+
+# rigid, constants at C = 1, 3, 10, laws skyhook_3, skyhook_10, scheduled; A and B tune, C and D evaluate
+RUNS = {
+    "A": (100.0, [50.0, 80.0, 90.0], [60.0, 70.0, 100.0]),
+    "B": (200.0, [300.0, 100.0, 180.0], [200.0, 100.0, 100.0]),
+    "C": (100.0, [40.0, 120.0, 60.0], [50.0, 90.0, 30.0]),
+    "D": (50.0, [10.0, 60.0, 25.0], [5.0, 40.0, 50.0]),
+}
+SPLIT = {"A": "tuning", "B": "tuning", "C": "evaluation", "D": "evaluation"}
+
+
+@pytest.fixture(scope="module")
+def gathered() -> xr.Dataset:
+    return bench.gather([fake_run(n, *v) for n, v in RUNS.items()], SPLIT, "los_std")
+
+
+def test_tuning_picks_the_least_tuning_mean_j(gathered):
+    """Tuning-set mean J of the constants: (0.5 + 1.5) / 2, (0.8 + 0.5) / 2, (0.9 + 0.9) / 2 = 1, 0.65, 0.9: C = 3;
+    of skyhook: (0.6 + 1) / 2, (0.7 + 0.5) / 2 = 0.8, 0.6: c_on = 10. The evaluation set does not vote (on C and D
+    C = 1 is best)."""
+    assert float(gathered.tuned_damping.sel(mount="six_axis")) == 3.0
+    assert float(gathered.tuned_c_on.sel(mount="six_axis")) == 10.0
+
+
+def test_controllers_and_j_against_hand_sums(gathered):
+    """Evaluation J on C and D (rigid 100, 50): passive_tuned 120/100, 60/50; the oracle 40/100, 10/50; skyhook at
+    10: 90/100, 40/50; scheduled 30/100, 50/50; rigid 1."""
+    expected = {
+        "rigid": (1.0, 1.0),
+        "passive_tuned": (1.2, 1.2),
+        "passive_oracle": (0.4, 0.2),
+        "skyhook_tuned": (0.9, 0.8),
+        "scheduled": (0.3, 1.0),
+    }
+    assert list(gathered.controller.values) == list(expected)
+    j = gathered.J.sel(mount="six_axis")
+    for name, (c, d) in expected.items():
+        assert j.sel(controller=name, scenario=["C", "D"]).values == pytest.approx([c, d], rel=1e-12), name
+        assert float(gathered.J_mean.sel(mount="six_axis", controller=name)) == pytest.approx((c + d) / 2, rel=1e-12)
+        assert float(gathered.J_worst.sel(mount="six_axis", controller=name)) == pytest.approx(max(c, d), rel=1e-12)
+    # the tuning set's own mean: the oracle's 0.5 and 0.5 on A and B
+    assert float(gathered.J_tuning_mean.sel(mount="six_axis", controller="passive_oracle")) == pytest.approx(0.5)
+    assert float(gathered.los_std_mean.sel(mount="six_axis", controller="scheduled")) == pytest.approx(40.0)
+
+
+def test_every_metric_comes_from_the_controllers_own_run(gathered):
+    """The other metrics (2 los + 1 in `fake_run`) follow the run each controller picked: passive_tuned's on D is
+    the C = 3 run's, 2 x 60 + 1; the oracle's on C the C = 1 run's, 2 x 40 + 1."""
+    on = gathered.sel(mount="six_axis")
+    assert float(on.mtf_nyquist.sel(controller="passive_tuned", scenario="D")) == 121.0
+    assert float(on.los_peak_to_peak.sel(controller="passive_oracle", scenario="C")) == 81.0
+    assert float(on.drift_frame_to_frame.sel(controller="skyhook_tuned", scenario="A")) == 141.0
+    assert gathered.los_std.attrs["units"] == "rad" and gathered.J.attrs["units"] == "1"
+    assert float(gathered.floor_los_std) == 5.0
+
+
+def test_a_tie_goes_to_the_lesser_damping():
+    runs = [
+        fake_run("A", 100.0, [80.0, 80.0, 90.0], [70.0, 70.0, 1.0]),
+        fake_run("C", 100.0, [1.0, 2.0, 3.0], [1, 2, 3]),
+    ]
+    ds = bench.gather(runs, {"A": "tuning", "C": "evaluation"}, "los_std")
+    assert float(ds.tuned_damping.sel(mount="six_axis")) == 1.0
+    assert float(ds.tuned_c_on.sel(mount="six_axis")) == 3.0
+
+
+def test_a_scenario_outside_the_split_is_refused():
+    with pytest.raises(ValueError, match=r"benchmark.payload: scenarios \['E'\] are in no set of the split"):
+        bench.gather([fake_run("E", *RUNS["A"])], SPLIT, "los_std")
+
+
+def test_the_section_is_checked_by_key():
+    with pytest.raises(ConfigError, match=r"benchmark.payload.mounts: must be distinct names of"):
+        parse(bench.PayloadBenchmark, {"mounts": ["yz"]}, "benchmark.payload")
+    with pytest.raises(ConfigError, match=r"benchmark.payload.criterion: must be one of"):
+        parse(bench.PayloadBenchmark, {"criterion": "mtf_nyquist"}, "benchmark.payload")  # higher is better
+
+
+def test_scenarios_no_longer_than_the_settling_are_refused_before_any_job():
+    config = load_config("config.yaml")
+    config["benchmark"]["duration_s"] = config["payload"]["settle_s"]
+    with pytest.raises(ConfigError, match=r"benchmark.duration_s: \(1.0 s\) must exceed payload.settle_s"):
+        check_config(load(config))
+
+
+def test_a_still_scenario_leaves_every_law_at_the_gimbals_floor():
+    """A mount that does not move: the isolator stays at rest whatever its damping or law, so every run of the
+    benchmark's section (rigid, each C, skyhook, the MR damper) sees only the gimbal's IMU noise, the same draw in
+    every run: the floor, which `compare_inputs` computes on its own still rigid mount."""
+    config = load_config("quick.yaml")
+    platform = platform_from(config["platform"])
+    section = parse(PayloadSection, config["payload"], "payload").with_camera(platform.structure)
+    section = bench.benchmark_section(section, bench.PayloadBenchmark(), 1.0)
+    assert section.payloads == ("gimbal",) and section.mounts == ("rigid", "six_axis") and section.sources == ()
+    t = np.arange(0.0, 1.0 + 1e-9, 2e-3)
+    still = MountMotion(np.zeros((3, t.size)), np.zeros((3, t.size)))
+    from uavdamp.camera.optics import CameraModel
+
+    camera = parse(CameraModel, config["camera"], "camera")
+    ds = bench.run_scenario("still", "", t, still, section, platform, camera, None, None)
+    floor = float(ds.floor_los_std.sel(payload="gimbal"))
+    assert floor > 0
+    assert ds.los_std.values == pytest.approx(floor, rel=1e-9)
+    assert list(ds.law.values) == ["skyhook_30", "mr_off", "mr_on", "mr_skyhook"]  # quick: C 3 and 30; no table
+    assert ds.law_los_std.sel(mount="six_axis").values == pytest.approx(floor, rel=1e-9)
+    assert math.isnan(float(ds.law_los_std.sel(mount="rigid").max()))
+
+
+def test_the_quick_runs_benchmark_on_the_payload(quick_run):
+    """What the quick run's gather wrote against what its run jobs wrote, recomputed here with numpy alone: the
+    scenarios and their split, the tuned constant C (the least tuning-set mean of los_std over the rigid mount's),
+    J of passive_tuned and of the scheduled law per scenario; the results page with the benchmark carries its
+    table and finding."""
+    from uavdamp import io
+    from uavdamp.benchmark import scenarios
+
+    out = quick_run / "reports-quick"
+    ds = io.open_dataset(out / "benchmark/payload/criteria.nc")
+    runs = {p.stem: io.open_dataset(p) for p in (out / "benchmark/payload/runs").glob("*.nc")}
+    typed = load(load_config("quick.yaml")).benchmark
+    split = scenarios.split(scenarios.scenario_specs(typed), typed.split.tuning_fraction, typed.split.seed)
+    assert sorted(runs) == sorted(split) == sorted(ds.scenario.values)
+    assert [split[str(s)] for s in ds.scenario.values] == list(ds.set.values)
+    names = [str(s) for s in ds.scenario.values]
+    mounts = [str(m) for m in runs[names[0]].mount.values]
+    rigid = np.array([runs[n].los_std.values[0, 0, mounts.index("rigid"), 0] for n in names])
+    const = np.array([runs[n].los_std.values[0, 0, mounts.index("six_axis"), :] for n in names])
+    j = const / rigid[:, None]
+    tuning = np.array([split[n] == "tuning" for n in names])
+    best = int(np.argmin(j[tuning].mean(axis=0)))
+    damping = runs[names[0]].damping.values
+    assert float(ds.tuned_damping.sel(mount="six_axis")) == damping[best]
+    on = ds.J.sel(mount="six_axis")
+    np.testing.assert_allclose(on.sel(controller="passive_tuned").values, j[:, best], rtol=1e-12)
+    np.testing.assert_allclose(on.sel(controller="passive_oracle").values, j.min(axis=1), rtol=1e-12)
+    laws = [str(n) for n in runs[names[0]].law.values]
+    scheduled = np.array(
+        [runs[n].law_los_std.values[0, mounts.index("six_axis"), laws.index("scheduled")] for n in names]
+    )
+    np.testing.assert_allclose(on.sel(controller="scheduled").values, scheduled / rigid, rtol=1e-12)
+    np.testing.assert_allclose(on.sel(controller="rigid").values, 1.0)
+    page = (out / "benchmark/summary.md").read_text()
+    assert "Controller benchmark on the payload" in page and "benchmark_payload.png" in page
+
+
+def test_the_results_page_states_the_best_law_against_the_tuned_and_the_oracle_constant(gathered):
+    """Evaluation means (hand sums above): scheduled 0.65, skyhook_tuned 0.85, passive_tuned 1.2, the oracle 0.3;
+    rigid and the oracle are no controllers, so the scheduled law is named; where the tuned constant is best, it is."""
+    from uavdamp.results import payload_page
+
+    text = payload_page.benchmark_payload_finding(gathered)
+    assert "the six-axis isolator the least mean J over the evaluation set is scheduled's, 0.65, against 1.2 " in text
+    assert "and 0.3 for each scenario's own best constant C" in text
+    table = payload_page.benchmark_payload_table(gathered).frame.set_index("controller")
+    assert table.loc["passive_tuned", "tuned (N s/m)"] == "3" and table.loc["skyhook_tuned", "tuned (N s/m)"] == "10"
+    assert table.loc["scheduled", "J mean / worst"] == "0.65 / 1"
+    assert table.loc["scheduled", "los_std (µrad)"] == "4.00e+07"  # 40 rad in the fake runs
+    runs = [fake_run(n, v[0], v[1], [500.0, 500.0, 500.0]) for n, v in RUNS.items()]
+    ds = bench.gather(runs, SPLIT, "los_std")
+    assert "is the tuned constant C's, 1.2: no law beats it" in payload_page.benchmark_payload_finding(ds)
+
+
+def test_sources_are_split_apart_and_keep_the_scenarios_sets():
+    base = {"a": "tuning", "b": "evaluation"}
+    assert bench.split(base, ["s1"], 0.3, 2014) == base | {"s1": "evaluation"}
+    two = bench.split(base, ["s2", "s1"], 0.5, 2014)
+    assert {k: two[k] for k in base} == base and sorted(two[k] for k in ("s1", "s2")) == ["evaluation", "tuning"]
+    with pytest.raises(ValueError, match=r"benchmark.payload.sources: \['a'\] are names of the benchmark's scenarios"):
+        bench.split(base, ["a", "s1"], 0.5, 2014)
+
+
+def test_a_source_the_config_lacks_or_a_scenarios_name_is_refused_by_key():
+    config = load_config("config.yaml")
+    config["benchmark"]["payload"]["sources"] = ["nothing"]
+    with pytest.raises(ConfigError, match=r"benchmark.payload.sources\[0\]: 'nothing' is not a stated source"):
+        check_config(load(config))
+    config["benchmark"]["payload"]["sources"] = ["multirotor_30"]
+    config["benchmark"]["sources"] = ["multirotor_30"]
+    with pytest.raises(ConfigError, match=r"benchmark.payload.sources\[0\]: 'multirotor_30' is the name of a bench"):
+        check_config(load(config))
+
+
+def test_a_criterion_the_rigid_mount_does_not_show_tunes_nothing():
+    """J is undefined where the rigid mount's criterion is 0 (a skew on a global shutter): no C is tuned, the tuned
+    controllers' values are NaN, and the gather still writes every other controller."""
+    runs = [fake_run(n, 0.0, v[1], v[2]) for n, v in RUNS.items()]
+    ds = bench.gather(runs, SPLIT, "los_std")
+    assert math.isnan(float(ds.tuned_damping.sel(mount="six_axis")))
+    assert math.isnan(float(ds.tuned_c_on.sel(mount="six_axis")))
+    assert np.all(np.isnan(ds.los_std.sel(controller=["passive_tuned", "skyhook_tuned"])))
+    assert float(ds.los_std.sel(mount="six_axis", controller="scheduled", scenario="C")) == 30.0
