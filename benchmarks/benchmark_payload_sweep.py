@@ -1,17 +1,19 @@
 """The controller benchmark on the payload swept over the choices its ranking depends on: the criterion
-(``benchmark.payload.criterion``), the group of scenarios it is read on, and the gimbal's attitude estimator
-(``payload.gimbal.estimator_crossover_hz``).
+(``benchmark.payload.criterion``), the group of scenarios it is read on, the split's seed (``benchmark.split.seed``),
+the gimbal's attitude estimator (``payload.gimbal.estimator_crossover_hz``) and skyhook's off damping
+(``payload.skyhook_c_off_n_s_m``).
 
-    python benchmarks/benchmark_payload_sweep.py [RUN_DIR] [--configs config/config.yaml ...]
-                                                 [--estimator-hz 0.159 ...]
+    python benchmarks/benchmark_payload_sweep.py [RUN_DIR] [--configs config/config.yaml ...] [--seeds 1 2 ...]
+                                                 [--estimator-hz 0.159 ...] [--c-off 0.3 3 ...]
 
 Reads the runs a `snakemake -j2 benchmark` wrote (RUN_DIR/benchmark/payload/runs/*.nc, default reports) and gathers
 them again (`uavdamp.benchmark.payload.gather`, the split of the config) for every criterion of
 `uavdamp.benchmark.payload.CRITERIA`; then per group (the helicopter flights, the synthetic inputs at the paper's
-amplitude, the stated sources at flyable levels) the mean J over its evaluation scenarios. With --estimator-hz, runs
-every scenario again with that estimator crossover (the config's other values; joblib over 2 workers: about 1.5 min
-each on 2 cores) and prints the same. Prints Markdown tables of the mean J over the evaluation set per controller
-and the tuned settings; the numbers in docs/stages/benchmark.md come from it.
+amplitude, the stated sources at flyable levels) the mean J over its evaluation scenarios. With --seeds, gathers the
+same runs on the split of each seed (line of sight alone). With --estimator-hz or --c-off, runs every scenario again
+with that value (the config's others; joblib over 2 workers: about 1.5 min each on 2 cores) and prints the same.
+Prints Markdown tables of the mean J over the evaluation set per controller and the tuned settings; the numbers in
+docs/stages/benchmark.md come from it.
 """
 
 from __future__ import annotations
@@ -62,13 +64,26 @@ def table(runs, split: dict, sources, label: str) -> None:
             print(f"| {criterion} | {group} ({n}) | {tuned} | " + " | ".join(cells) + " |")
 
 
-def rerun(names, config: dict, typed, run_dir: Path, estimator_hz: float) -> list:
-    """Every scenario run again with the gimbal's estimator crossover at `estimator_hz` (Hz)."""
+def seeds(runs, typed, seeds) -> None:
+    """The line-of-sight table on the split of each seed (the same runs, the config's tuning fraction)."""
+    b = typed.benchmark
+    for seed in seeds:
+        base = scenarios.split(scenarios.scenario_specs(b), b.split.tuning_fraction, seed)
+        split = bench.split(base, b.payload.sources, b.split.tuning_fraction, seed)
+        ds = bench.gather(runs, split, "los_std").sel(mount="six_axis")
+        cells = " | ".join(f"{c}: {float(ds.J_mean.sel(controller=c)):.3g}" for c in ds.controller.values)
+        tuned = f"C {float(ds.tuned_damping):g}, c_on {float(ds.tuned_c_on):g}"
+        print(
+            f"\nseed {seed} (tuning: {', '.join(n for n in sorted(split) if split[n] == 'tuning')}; {tuned}): {cells}"
+        )
+
+
+def rerun(names, config: dict, typed, run_dir: Path, change: dict) -> list:
+    """Every scenario run again with the payload section's values `change` (``gimbal`` a dict of its own)."""
     platform = parse(PlatformParams, view(config["platform"], PlatformParams), "platform")
     section = parse(PayloadSection, config["payload"], "payload").with_camera(platform.structure)
-    section = dataclasses.replace(
-        section, gimbal=dataclasses.replace(section.gimbal, estimator_crossover_hz=estimator_hz)
-    )
+    gimbal = dataclasses.replace(section.gimbal, **change.pop("gimbal", {}))
+    section = dataclasses.replace(section, gimbal=gimbal, **change)
     section = bench.benchmark_section(section, typed.benchmark.payload, typed.benchmark.duration_s)
     camera = parse(CameraModel, config["camera"], "camera")
     table_ds = io.open_dataset(run_dir / "payload/table.nc")
@@ -88,7 +103,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir", nargs="?", default="reports")
     parser.add_argument("--configs", nargs="*", default=["config/config.yaml"])
+    parser.add_argument("--seeds", nargs="*", type=int, default=[])
     parser.add_argument("--estimator-hz", nargs="*", type=float, default=[])
+    parser.add_argument("--c-off", nargs="*", type=float, default=[])
     args = parser.parse_args()
     config = merged(args.configs)
     typed = load(config)
@@ -99,10 +116,15 @@ def main() -> None:
     runs = [io.open_dataset(run_dir / f"benchmark/payload/runs/{n}.nc") for n in sorted(split)]
     crossover = typed.payload.gimbal.estimator_crossover_hz
     table(runs, split, b.payload.sources, f"the run's ({run_dir}): estimator crossover {crossover:g} Hz")
-    for hz in args.estimator_hz:
+    seeds(runs, typed, args.seeds)
+    changes = [
+        (f"estimator crossover {hz:g} Hz", {"gimbal": {"estimator_crossover_hz": hz}}) for hz in args.estimator_hz
+    ]
+    changes += [(f"skyhook c_off {c:g} N s/m", {"skyhook_c_off": c}) for c in args.c_off]
+    for label, change in changes:
         start = time.perf_counter()
-        again = rerun(sorted(split), config, typed, run_dir, hz)
-        table(again, split, b.payload.sources, f"estimator crossover {hz:g} Hz ({time.perf_counter() - start:.0f} s)")
+        again = rerun(sorted(split), config, typed, run_dir, change)
+        table(again, split, b.payload.sources, f"{label} ({time.perf_counter() - start:.0f} s)")
 
 
 if __name__ == "__main__":

@@ -163,7 +163,11 @@ def test_the_quick_runs_benchmark_on_the_payload(quick_run):
     ds = io.open_dataset(out / "benchmark/payload/criteria.nc")
     runs = {p.stem: io.open_dataset(p) for p in (out / "benchmark/payload/runs").glob("*.nc")}
     typed = load(load_config("quick.yaml")).benchmark
-    split = scenarios.split(scenarios.scenario_specs(typed), typed.split.tuning_fraction, typed.split.seed)
+    fraction, seed = typed.split.tuning_fraction, typed.split.seed
+    split = bench.split(
+        scenarios.split(scenarios.scenario_specs(typed), fraction, seed), typed.payload.sources, fraction, seed
+    )
+    assert typed.payload.sources and set(typed.payload.sources) < set(split)  # quick: multirotor_30 besides
     assert sorted(runs) == sorted(split) == sorted(ds.scenario.values)
     assert [split[str(s)] for s in ds.scenario.values] == list(ds.set.values)
     names = [str(s) for s in ds.scenario.values]

@@ -306,14 +306,15 @@ BENCHMARK_PAYLOAD_RUNS = (
 )
 
 
-def benchmark_payload_input(scenario):
-    """{path: rule digest} of a payload run's scenario file ({} for a stated source: the job generates it)."""
-    if scenario in BENCHMARK_PAYLOAD_SOURCES:
-        return {}
-    return {
-        f"{OUT}/benchmark/scenarios/{scenario}.nc": f"benchmark_scenario:{scenario}"
-    }
-
+# {path: rule digest} of each payload run's scenario file ({} for a stated source: the job generates it)
+BENCHMARK_PAYLOAD_INPUTS = {
+    s: (
+        {}
+        if s in BENCHMARK_PAYLOAD_SOURCES
+        else {f"{OUT}/benchmark/scenarios/{s}.nc": f"benchmark_scenario:{s}"}
+    )
+    for s in BENCHMARK_PAYLOAD_SCENARIOS
+}
 
 for _s in BENCHMARK_PAYLOAD_SCENARIOS:
     digest(
@@ -328,7 +329,7 @@ for _s in BENCHMARK_PAYLOAD_SCENARIOS:
                 config["sources"][_s] if _s in BENCHMARK_PAYLOAD_SOURCES else {}
             ),
         },
-        *benchmark_payload_input(_s).values(),
+        *BENCHMARK_PAYLOAD_INPUTS[_s].values(),
         "payload_table",
         "payload_anfis",
     )
@@ -336,7 +337,7 @@ for _s in BENCHMARK_PAYLOAD_SCENARIOS:
 
 rule benchmark_payload_run:
     input:
-        scenario=lambda wc: list(benchmark_payload_input(wc.scenario)),
+        scenario=lambda wc: list(BENCHMARK_PAYLOAD_INPUTS[wc.scenario]),
         table=f"{OUT}/payload/table.nc",
         model=f"{OUT}/payload/anfis_model.nc",
     output:
@@ -353,7 +354,7 @@ rule benchmark_payload_run:
         digest=lambda wc: DIGESTS[f"benchmark_payload_run:{wc.scenario}"],
         expects=lambda wc: expects(
             {
-                **benchmark_payload_input(wc.scenario),
+                **BENCHMARK_PAYLOAD_INPUTS[wc.scenario],
                 f"{OUT}/payload/table.nc": "payload_table",
                 f"{OUT}/payload/anfis_model.nc": "payload_anfis",
             }

@@ -47,7 +47,6 @@ CRITERIA = (
     "jitter_within_exposure",
     "drift_frame_to_frame",
 )
-TUNED = ("passive_tuned", "skyhook_tuned")
 
 
 @dataclass(frozen=True)
@@ -186,6 +185,8 @@ def gather(runs: list[xr.Dataset], split: dict[str, str], criterion: str) -> xr.
     out = xr.Dataset(coords={"scenario": ds.scenario, "set": ds.set, "mount": mounts, "controller": names})
     for metric, value in values.items():
         out[metric] = value.assign_attrs(metric_attrs(metric))
+    if "input_description" in ds:
+        out["scenario_description"] = ds.input_description.assign_attrs(units="1", long_name="the scenario")
     return _scored(out, ds, criterion, c_tuned, on_tuned)
 
 
