@@ -238,3 +238,12 @@ def test_a_criterion_the_rigid_mount_does_not_show_tunes_nothing():
     assert math.isnan(float(ds.tuned_c_on.sel(mount="six_axis")))
     assert np.all(np.isnan(ds.los_std.sel(controller=["passive_tuned", "skyhook_tuned"])))
     assert float(ds.los_std.sel(mount="six_axis", controller="scheduled", scenario="C")) == 30.0
+
+
+def test_a_multirotor_source_needs_its_vibe_settling_only_when_the_benchmark_on_the_payload_runs():
+    config = load_config("config.yaml")
+    config["benchmark"]["duration_s"] = 1.5  # the VIBE filter's ten time constants: 10 / (2 pi 2 Hz) = 0.80 s, twice
+    with pytest.raises(ConfigError, match=r"benchmark.duration_s: \(1.5 s\) must exceed 1.59 s for benchmark.payload"):
+        check_config(load(config))
+    config["benchmark"]["payload"]["enabled"] = False
+    check_config(load(config))

@@ -375,7 +375,7 @@ def _check_benchmark_payload(config: Config) -> None:
         require(name in config.sources, key, f"{name!r} is not a stated source ({sorted(config.sources)})")
         require(name not in taken, key, f"{name!r} is the name of a benchmark scenario: a source needs its own")
         require(
-            config.sources[name].kind != "multirotor" or bench.duration_s > need,
+            not bench.payload.enabled or config.sources[name].kind != "multirotor" or bench.duration_s > need,
             "benchmark.duration_s",
             f"({bench.duration_s} s) must exceed {need:.2f} s for {key} {name!r}: a multirotor source is scaled to "
             "its VIBE level, measured after the level's 2 Hz filter settles",
