@@ -1,17 +1,18 @@
 """The controller benchmark on the payload swept over the choices its ranking depends on: the criterion
 (``benchmark.payload.criterion``), the group of scenarios it is read on, the split's seed (``benchmark.split.seed``),
-the gimbal's attitude estimator (``payload.gimbal.estimator_crossover_hz``) and skyhook's off damping
-(``payload.skyhook_c_off_n_s_m``).
+the gimbal's attitude estimator (``payload.gimbal.estimator_crossover_hz``), skyhook's off damping
+(``payload.skyhook_c_off_n_s_m``) and its damper's lag (``payload.skyhook_lag_s``).
 
     python benchmarks/benchmark_payload_sweep.py [RUN_DIR] [--configs config/config.yaml ...] [--seeds 1 2 ...]
-                                                 [--estimator-hz 0.159 ...] [--c-off 0.3 3 ...]
+                                                 [--estimator-hz 0.159 ...] [--c-off 0.3 3 ...] [--lag-s 0.01 ...]
 
 Reads the runs a `snakemake -j2 benchmark` wrote (RUN_DIR/benchmark/payload/runs/*.nc, default reports) and gathers
 them again (`uavdamp.benchmark.payload.gather`, the split of the config) for every criterion of
 `uavdamp.benchmark.payload.CRITERIA`; then per group (the helicopter flights, the synthetic inputs at the paper's
 amplitude, the stated sources at flyable levels) the mean J over its evaluation scenarios. With --seeds, gathers the
-same runs on the split of each seed (line of sight alone). With --estimator-hz or --c-off, runs every scenario again
-with that value (the config's others; joblib over 2 workers: about 1.5 min each on 2 cores) and prints the same.
+same runs on the split of each seed (line of sight alone). With --estimator-hz, --c-off or --lag-s, runs every
+scenario again with that value (the config's others; joblib over 2 workers: about 1.5 min each on 2 cores) and
+prints the same.
 Prints Markdown tables of the mean J over the evaluation set per controller and the tuned settings; the numbers in
 docs/stages/benchmark.md come from it.
 """
@@ -106,6 +107,7 @@ def main() -> None:
     parser.add_argument("--seeds", nargs="*", type=int, default=[])
     parser.add_argument("--estimator-hz", nargs="*", type=float, default=[])
     parser.add_argument("--c-off", nargs="*", type=float, default=[])
+    parser.add_argument("--lag-s", nargs="*", type=float, default=[])
     args = parser.parse_args()
     config = merged(args.configs)
     typed = load(config)
@@ -121,6 +123,7 @@ def main() -> None:
         (f"estimator crossover {hz:g} Hz", {"gimbal": {"estimator_crossover_hz": hz}}) for hz in args.estimator_hz
     ]
     changes += [(f"skyhook c_off {c:g} N s/m", {"skyhook_c_off": c}) for c in args.c_off]
+    changes += [(f"skyhook damper lag {lag:g} s", {"skyhook_lag": lag}) for lag in args.lag_s]
     for label, change in changes:
         start = time.perf_counter()
         again = rerun(sorted(split), config, typed, run_dir, change)
