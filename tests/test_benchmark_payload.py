@@ -11,7 +11,7 @@ import xarray as xr
 from conftest import load_config, platform_from
 
 from uavdamp.benchmark import payload as bench
-from uavdamp.config.checks import check_config
+from uavdamp.config import checks
 from uavdamp.config.load import load
 from uavdamp.contract import MountMotion
 from uavdamp.settings import ConfigError, parse
@@ -19,6 +19,14 @@ from uavdamp.study.payload import PayloadSection
 from uavdamp.study.payload_runs import METRICS
 
 DAMPING = (1.0, 3.0, 10.0)
+
+
+def checks_of_the_benchmark_on_the_payload(config: dict) -> None:
+    """The config checks of the benchmark on the payload on a typed config (`uavdamp.config.checks`; that
+    `check_config` calls it: tests/test_config.py's refusals run the whole check)."""
+    checks._check_benchmark_payload(load(config))
+
+
 LAWS = ("skyhook_3", "skyhook_10", "scheduled")
 
 
@@ -34,6 +42,7 @@ def fake_run(name: str, rigid: float, constants, laws) -> xr.Dataset:
         data[metric] = (("input", "payload", "mount", "damping"), scale[0] * los + scale[1])
         data[f"law_{metric}"] = (("input", "mount", "law"), scale[0] * law + scale[1])
     data["floor_los_std"] = (("payload",), [5.0], {"units": "rad", "long_name": "floor"})
+    data["input_description"] = (("input",), [f"scenario {name}"], {"units": "1", "long_name": "the input"})
     coords = {
         "input": [name],
         "payload": ["gimbal"],
@@ -41,7 +50,7 @@ def fake_run(name: str, rigid: float, constants, laws) -> xr.Dataset:
         "damping": list(DAMPING),
         "law": list(LAWS),
     }
-    return xr.Dataset(data, coords=coords, attrs={"duration_s": 10.0, "settle_s": 1.0})
+    return xr.Dataset(data, coords=coords, attrs={"duration_s": 10.0, "settle_s": 1.0, "coupling": "one-way"})
 
 
 # rigid, constants at C = 1, 3, 10, laws skyhook_3, skyhook_10, scheduled; A and B tune, C and D evaluate
@@ -54,7 +63,7 @@ RUNS = {
 SPLIT = {"A": "tuning", "B": "tuning", "C": "evaluation", "D": "evaluation"}
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture  # per test: mutmut maps a mutated function to the tests that call it, fixtures' setup included
 def gathered() -> xr.Dataset:
     return bench.gather([fake_run(n, *v) for n, v in RUNS.items()], SPLIT, "los_std")
 
@@ -125,7 +134,7 @@ def test_scenarios_no_longer_than_the_settling_are_refused_before_any_job():
     config = load_config("config.yaml")
     config["benchmark"]["duration_s"] = config["payload"]["settle_s"]
     with pytest.raises(ConfigError, match=r"benchmark.duration_s: \(1.0 s\) must exceed payload.settle_s"):
-        check_config(load(config))
+        checks_of_the_benchmark_on_the_payload(config)
 
 
 def test_a_still_scenario_leaves_every_law_at_the_gimbals_floor():
@@ -142,7 +151,8 @@ def test_a_still_scenario_leaves_every_law_at_the_gimbals_floor():
     from uavdamp.camera.optics import CameraModel
 
     camera = parse(CameraModel, config["camera"], "camera")
-    ds = bench.run_scenario("still", "", t, still, section, platform, camera, None, None)
+    ds = bench.run_scenario("still", "a still mount", t, still, section, platform, camera, None, None)
+    assert list(ds.input.values) == ["still"] and list(ds.input_description.values) == ["a still mount"]
     floor = float(ds.floor_los_std.sel(payload="gimbal"))
     assert floor > 0
     assert ds.los_std.values == pytest.approx(floor, rel=1e-9)
@@ -222,11 +232,11 @@ def test_a_source_the_config_lacks_or_a_scenarios_name_is_refused_by_key():
     config = load_config("config.yaml")
     config["benchmark"]["payload"]["sources"] = ["nothing"]
     with pytest.raises(ConfigError, match=r"benchmark.payload.sources\[0\]: 'nothing' is not a stated source"):
-        check_config(load(config))
+        checks_of_the_benchmark_on_the_payload(config)
     config["benchmark"]["payload"]["sources"] = ["multirotor_30"]
     config["benchmark"]["sources"] = ["multirotor_30"]
     with pytest.raises(ConfigError, match=r"benchmark.payload.sources\[0\]: 'multirotor_30' is the name of a bench"):
-        check_config(load(config))
+        checks_of_the_benchmark_on_the_payload(config)
 
 
 def test_a_criterion_the_rigid_mount_does_not_show_tunes_nothing():
@@ -244,6 +254,49 @@ def test_a_multirotor_source_needs_its_vibe_settling_only_when_the_benchmark_on_
     config = load_config("config.yaml")
     config["benchmark"]["duration_s"] = 1.5  # the VIBE filter's ten time constants: 10 / (2 pi 2 Hz) = 0.80 s, twice
     with pytest.raises(ConfigError, match=r"benchmark.duration_s: \(1.5 s\) must exceed 1.59 s for benchmark.payload"):
-        check_config(load(config))
+        checks_of_the_benchmark_on_the_payload(config)
     config["benchmark"]["payload"]["enabled"] = False
-    check_config(load(config))
+    checks_of_the_benchmark_on_the_payload(config)
+
+
+def test_the_markdown_table_against_hand_sums(gathered):
+    """One row per controller of the six-axis isolator: the tuned settings, mean / worst / tuning-mean J (hand sums
+    of `test_controllers_and_j_against_hand_sums`), the criterion's evaluation mean, here in rad x 1e6 (40 rad:
+    4e+07), and the mean MTF at Nyquist (2 x los + 1 in `fake_run`); the floor line (5 rad)."""
+    text = bench.markdown_table(gathered)
+    lines = text.splitlines()
+    assert lines[0] == "**six_axis**: J = los_std over the rigid mount's, 2 evaluation scenarios (lower is better)"
+    head = "| controller | setting | mean J | worst J | tuning mean J | mean los_std (µrad) | mean MTF |"
+    assert lines[2] == head and lines[3] == "|---|---|---:|---:|---:|---:|---:|" and lines[-2] == ""
+    rows = {line.split(" | ")[0].strip("| "): line for line in lines[4:] if line.startswith("| ")}
+    assert list(rows) == list(gathered.controller.values)
+    assert rows["passive_tuned"] == "| passive_tuned | C = 3 N s/m | 1.2 | 1.2 | 0.65 | 9e+07 | 181 |"
+    assert rows["skyhook_tuned"] == "| skyhook_tuned | c_on = 10 N s/m | 0.85 | 0.9 | 0.6 | 6.5e+07 | 131 |"
+    assert rows["passive_oracle"] == "| passive_oracle | best C per scenario | 0.3 | 0.4 | 0.5 | 2.5e+07 | 51 |"
+    assert rows["scheduled"] == "| scheduled |  | 0.65 | 1 | 0.75 | 4e+07 | 81 |"
+    assert lines[-1] == "The gimbal on a still mount (its sensor floor): line of sight 5e+06 µrad rms."
+
+
+def test_every_variable_and_coordinate_carries_its_units_and_long_name(gathered):
+    """CF attributes of what the gather writes: the J family dimensionless, the tuned settings in N s m-1, the
+    metrics in their own units (los_std rad), the floor rad, every coordinate '1'."""
+    for name, var in {**gathered.data_vars, **gathered.coords}.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    units = {k: gathered[k].attrs["units"] for k in gathered.variables}
+    assert {
+        units[k] for k in ("J", "J_mean", "J_worst", "J_tuning_mean", "scenario", "set", "mount", "controller")
+    } == {"1"}
+    assert units["tuned_damping"] == units["tuned_c_on"] == "N s m-1"
+    assert units["los_std"] == units["los_std_mean"] == units["floor_los_std"] == "rad"
+    assert gathered.attrs["criterion"] == "los_std" and gathered.attrs["duration_s"] == 10.0
+    assert gathered.attrs["settle_s"] == 1.0 and gathered.attrs["coupling"] == "one-way"  # the runs' own
+    assert gathered.attrs["title"].startswith("Controller benchmark on the payload")
+    long = {k: gathered[k].attrs["long_name"] for k in gathered.variables}
+    assert long["J"] == "los_std over the rigid mount's on the same scenario"  # what J divides, by name
+    assert long["J_mean"] == "mean J, evaluation set" and long["J_worst"] == "worst J, evaluation set"
+    assert long["J_tuning_mean"] == "mean J, tuning set" and long["los_std_mean"] == "mean los_std, evaluation set"
+    assert "constant C" in long["tuned_damping"] and "c_on" in long["tuned_c_on"] and "set" in long["set"]
+    assert gathered.J.dims == ("scenario", "mount", "controller") and "payload" not in gathered.dims
+    assert list(gathered.scenario_description.values) == [f"scenario {n}" for n in RUNS]
+    assert gathered.scenario_description.attrs == {"units": "1", "long_name": "the scenario"}
+    assert list(gathered.set.values) == [SPLIT[n] for n in RUNS]

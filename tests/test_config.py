@@ -76,6 +76,14 @@ BAD = {
         "payload.anfis.freq_hz: the payload ANFIS's 1 x 1 x 1 = 1 reference cells (payload.anfis.freq_hz per DOF, "
         "payload.table.stiffness_n_m) give 0 training rows, fewer than anfis.selection.folds (3)",
     ),
+    "benchmark-payload-unknown-source": (
+        {"benchmark": {"payload": {"sources": ["nowhere"]}}},
+        "benchmark.payload.sources[0]: 'nowhere' is not a stated source",
+    ),
+    "benchmark-payload-scenarios-within-the-settling": (
+        {"benchmark": {"duration_s": 0.5}},  # quick: payload.settle_s 0.5 s
+        "benchmark.duration_s: (0.5 s) must exceed payload.settle_s (0.5 s) with benchmark.payload.enabled",
+    ),
     "payload-unknown-source": (
         {"payload": {"sources": ["nowhere"]}},
         "payload.sources[0]: 'nowhere' is not a name of the sources section",
