@@ -45,14 +45,21 @@ def group_of(name: str, sources) -> str:
     return "sources" if name in sources else "helicopter" if name.startswith("heli_") else "synthetic"
 
 
+def split_of(b, seed: int) -> dict[str, str]:
+    """The benchmark on the payload's split of the benchmark section `b`'s scenarios and sources, with `seed`."""
+    base = scenarios.split(scenarios.scenario_specs(b), b.split.tuning_fraction, seed)
+    return bench.split(base, b.payload.sources, b.split.tuning_fraction, seed)
+
+
 def table(runs, split: dict, sources, label: str) -> None:
-    """Mean J over the evaluation set per controller for every criterion, overall and per group (Markdown)."""
+    """Mean J over the evaluation set per controller for every criterion, overall and per group, beside the rigid
+    gimbal's mean criterion (µrad for an angle) (Markdown)."""
     names = [str(r.input.values[0]) for r in runs]
     groups = sorted({group_of(n, sources) for n in names})
     first = bench.gather(runs, split, bench.CRITERIA[0])
     columns = [str(c) for c in first.controller.values]
-    print(f"\n### {label}\n\n| criterion | scenarios | tuned C / c_on | " + " | ".join(columns) + " |")
-    print("|---|---|---|" + "---:|" * len(columns))
+    print(f"\n### {label}\n\n| criterion | scenarios | rigid | tuned C / c_on | " + " | ".join(columns) + " |")
+    print("|---|---|---:|---|" + "---:|" * len(columns))
     for criterion in bench.CRITERIA:
         ds = bench.gather(runs, split, criterion).sel(mount="six_axis")
         tuned = f"{float(ds.tuned_damping):g} / {float(ds.tuned_c_on):g}"
@@ -62,15 +69,17 @@ def table(runs, split: dict, sources, label: str) -> None:
             n = int(where.sum())
             mean = ds.J.where(where).mean("scenario")
             cells = [f"{float(mean.sel(controller=c)):.3g}" for c in columns]
-            print(f"| {criterion} | {group} ({n}) | {tuned} | " + " | ".join(cells) + " |")
+            rigid = ds[criterion].sel(controller="rigid").where(where).mean("scenario")
+            scale, unit = (1e6, " µrad") if ds[criterion].attrs.get("units") == "rad" else (1.0, "")
+            cells = [f"{float(rigid) * scale:.3g}{unit}", tuned, *cells]
+            print(f"| {criterion} | {group} ({n}) | " + " | ".join(cells) + " |")
 
 
 def seeds(runs, typed, seeds) -> None:
     """The line-of-sight table on the split of each seed (the same runs, the config's tuning fraction)."""
     b = typed.benchmark
     for seed in seeds:
-        base = scenarios.split(scenarios.scenario_specs(b), b.split.tuning_fraction, seed)
-        split = bench.split(base, b.payload.sources, b.split.tuning_fraction, seed)
+        split = split_of(b, seed)
         ds = bench.gather(runs, split, "los_std").sel(mount="six_axis")
         cells = " | ".join(f"{c}: {float(ds.J_mean.sel(controller=c)):.3g}" for c in ds.controller.values)
         tuned = f"C {float(ds.tuned_damping):g}, c_on {float(ds.tuned_c_on):g}"
@@ -112,8 +121,7 @@ def main() -> None:
     config = merged(args.configs)
     typed = load(config)
     b = typed.benchmark
-    base = scenarios.split(scenarios.scenario_specs(b), b.split.tuning_fraction, b.split.seed)
-    split = bench.split(base, b.payload.sources, b.split.tuning_fraction, b.split.seed)
+    split = split_of(b, b.split.seed)
     run_dir = Path(args.run_dir)
     runs = [io.open_dataset(run_dir / f"benchmark/payload/runs/{n}.nc") for n in sorted(split)]
     crossover = typed.payload.gimbal.estimator_crossover_hz
