@@ -1,5 +1,5 @@
 """The six-axis isolator with Spencer MR dampers on its elements (`uavdamp.platform.six_axis_force` with
-`uavdamp.damping.mr_batch.SpencerBatch`) against an
+`uavdamp.damping.dampers.SpencerMR`, one axis per damper) against an
 independent computation: scipy's Radau on the payload's and every damper's equations written here by hand
 (Spencer et al. 1997, as tests/test_dampers.py writes them), and the coupling's second order in the step."""
 
@@ -8,8 +8,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from uavdamp.damping.dampers import V_MAX, SpencerParams
-from uavdamp.damping.mr_batch import SpencerBatch
+from uavdamp.damping.dampers import V_MAX, SpencerMR, SpencerParams
 from uavdamp.platform.six_axis import (
     Payload,
     damping_matrix,
@@ -84,7 +83,7 @@ def _reference(t, tr, rot, v) -> np.ndarray:
 
 def integrate(isolator, params, time, translation, rotation, schedules):
     """`six_axis_force.integrate` on Spencer dampers of `params` (the payload stage's sub-step, 0.5 ms)."""
-    return integrate_with(isolator, lambda n: SpencerBatch(params, n), time, translation, rotation, schedules)
+    return integrate_with(isolator, lambda n: SpencerMR(params, n_axes=n), time, translation, rotation, schedules)
 
 
 def relative(a, b) -> float:

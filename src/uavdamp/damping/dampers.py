@@ -42,14 +42,13 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq
 
-from uavdamp.contract import SolverFailed
+from uavdamp.damping import spencer_kernel
 
 V_MAX = 2.25  # V, the largest command of the paper's tests (0, 0.75, 1.5, 2.25 V); the table's range
 REFERENCE_FREQUENCY_HZ = 8.0  # Hz, reference stroke (choice: the isolator's 8 Hz design point, config platform)
 REFERENCE_VELOCITY = 0.05  # m s-1, reference stroke rate amplitude (choice: ~1 mm at 8 Hz, the paper's 1.3 mm input)
 MAX_SUBSTEP = 5e-4  # s, default internal sub-step (choice: force within 0.2 % of Radau, tests/test_dampers.py)
 
-SDIRK_GAMMA = 1.0 - math.sqrt(0.5)  # Alexander's two-stage L-stable SDIRK: stage abscissae gamma and 1
 _CM = 1e-2  # m per cm: the paper's Table 1 is in N, cm, s and V
 
 
@@ -181,27 +180,21 @@ def _platform_scales(c_min: float, c_max: float, velocity: float, frequency: flo
     return s * c_max / ceq(stroke, v_max), s
 
 
-def hermite(s: float, h: float, x0, xd0, x1, xd1):
-    """(x, x') at the fraction s of a step h of the cubic with those end values and slopes (floats or arrays)."""
-    s2, s3 = s * s, s * s * s
-    x = (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * h * xd0 + (3 * s2 - 2 * s3) * x1 + (s3 - s2) * h * xd1
-    xd = ((6 * s2 - 6 * s) * (x0 - x1)) / h + (3 * s2 - 4 * s + 1) * xd0 + (3 * s2 - 2 * s) * xd1
-    return x, xd
-
-
 class SpencerMR:
     """Spencer MR dampers on `n_axes` axes (default 2: y, z) under one command voltage.
 
     States (arrays, one entry per axis): y (m), z (m), u (V). `step` advances them over one solver step and
     returns the force F (N, per axis) at the step's end; `force_mean` is then F averaged over the step (N, the
     trapezoidal rule on the sub-steps: the impulse / h a plant holding one force over the step should apply).
-    Sub-steps: ceil(h / max_substep) equal ones (choice; see the module docstring for the scheme).
+    Sub-steps: ceil(h / max_substep) equal ones (choice; see the module docstring for the scheme), each axis
+    advanced on its own by the compiled scheme (`uavdamp.damping.spencer_kernel`: the axes do not interact).
     """
 
     def __init__(self, params: SpencerParams, n_axes: int = 2, max_substep: float = MAX_SUBSTEP):
         if not max_substep > 0:
             raise ValueError(f"max_substep: must be > 0, got {max_substep}")
         self.params, self.n_axes, self.max_substep = params, int(n_axes), float(max_substep)
+        self._packed = spencer_kernel.packed(params)
         self.reset()
 
     def reset(self, x0=0.0) -> None:
@@ -213,95 +206,24 @@ class SpencerMR:
 
     def force(self, x, xd) -> np.ndarray:
         """F (N) at the present states for the stroke x (m) and rate xd (m s-1)."""
-        p = self.params
-        alpha, c0, c1 = p.coefficients(self.u)
-        yd = (alpha * self.z + c0 * xd + p.k0 * (x - self.y)) / (c0 + c1)
-        return c1 * yd + p.k1 * (x - p.x0)
+        return spencer_force(self.params, self.y, self.z, self.u, np.asarray(x, float), np.asarray(xd, float))
 
     def step(self, h: float, voltage, x0, xd0, x1=None, xd1=None) -> np.ndarray:
         """Advance y, z, u over a step h (s) with the command `voltage` (V, held) and the stroke x (m) and rate
-        x' (m s-1) at the step's start (x0, xd0) and end (x1, xd1; None: x' held, x linear); F (N) at the end.
-        Each axis is advanced on its own in Python floats (`_advance`: the axes do not interact)."""
-        if not h > 0:
-            raise ValueError(f"time step: must be > 0, got {h}")
+        x' (m s-1) at the step's start (x0, xd0) and end (x1, xd1; None: x' held, x linear); F (N) at the end."""
         if (x1 is None) != (xd1 is None):
             raise ValueError("give both the stroke and its rate at the step's end, or neither")
-        n = self.n_axes
-        x0, xd0, v = _per_axis(x0, n), _per_axis(xd0, n), _per_axis(voltage, n)
         if x1 is None:
-            x1, xd1 = [a + h * b for a, b in zip(x0, xd0, strict=True)], xd0
-        else:
-            x1, xd1 = _per_axis(x1, n), _per_axis(xd1, n)
-        n_sub = max(1, math.ceil(h / self.max_substep - 1e-9))
-        f_end, mean = np.empty(n), np.empty(n)
-        for i in range(n):
-            state = (float(self.y[i]), float(self.z[i]), float(self.u[i]))
-            stroke = (x0[i], xd0[i], x1[i], xd1[i])
-            (self.y[i], self.z[i], self.u[i]), f_end[i], mean[i] = _advance(self.params, state, v[i], h, n_sub, stroke)
-        self.force_mean = mean
+            x1, xd1 = np.asarray(x0, float) + h * np.asarray(xd0, float), xd0
+        states, stroke = (self.y, self.z, self.u), (x0, xd0, x1, xd1)
+        f_end, self.force_mean = spencer_kernel.step(self._packed, states, voltage, h, self.max_substep, stroke)
         return f_end
-
-
-def _per_axis(value, n: int) -> list[float]:
-    """A scalar or an (n,) array as n Python floats."""
-    values = np.asarray(value, float)
-    return [float(values)] * n if values.ndim == 0 else values.reshape(n).tolist()
-
-
-def _sign(value: float) -> float:
-    """-1, 0 or 1 (numpy.sign of a float)."""
-    return 1.0 if value > 0 else (-1.0 if value < 0 else 0.0)
 
 
 def spencer_force(p: SpencerParams, y, z, u, x, xd):
     """F (N) at the states (y m, z m, u V) for the stroke x (m) and rate xd (m s-1): floats or arrays alike."""
     alpha, c0, c1 = p.coefficients(u)
     return c1 * (alpha * z + c0 * xd + p.k0 * (x - y)) / (c0 + c1) + p.k1 * (x - p.x0)
-
-
-def _advance(p: SpencerParams, state, v: float, h: float, n_sub: int, stroke):
-    """One axis over a step h in n_sub SDIRK sub-steps (module docstring): ((y, z, u) at its end, F at its end,
-    F averaged over it by the trapezoidal rule on the sub-steps)."""
-    y, z, u = state
-    dt, g = h / n_sub, SDIRK_GAMMA
-    a, decay, decay_g = g * dt, math.exp(-p.eta * dt), math.exp(-p.eta * g * dt)
-    total = 0.5 * spencer_force(p, y, z, u, stroke[0], stroke[1])
-    for k in range(n_sub):
-        s0 = k / n_sub
-        x, xd = hermite(s0 + g / n_sub, h, *stroke)
-        y1, z1 = _solve_stage(p, y, z, a, x, xd, v + (u - v) * decay_g)
-        ky, kz = (y1 - y) / a, (z1 - z) / a
-        x, xd = hermite(s0 + 1.0 / n_sub, h, *stroke)
-        u = v + (u - v) * decay
-        y, z = _solve_stage(p, y + (1 - g) * dt * ky, z + (1 - g) * dt * kz, a, x, xd, u)
-        xe, xde = hermite((k + 1) / n_sub, h, *stroke)
-        f_end = spencer_force(p, y, z, u, xe, xde)
-        total += f_end if k < n_sub - 1 else 0.5 * f_end
-    return (y, z, u), f_end, total / n_sub
-
-
-def _solve_stage(p: SpencerParams, r_y: float, r_z: float, a: float, x: float, xd: float, u: float,
-                 tol: float = 1e-13, max_iter: int = 30) -> tuple[float, float]:  # fmt: skip
-    """(y, z) with (y, z) = (r_y, r_z) + a (y', z')(x, x', u, y, z): y = q + a m z eliminated, Newton in z."""
-    alpha, c0, c1 = p.coefficients(u)
-    den = c0 + c1 + a * p.k0
-    m = alpha / den
-    q = ((c0 + c1) * r_y + a * (c0 * xd + p.k0 * x)) / den
-    w0 = xd - (q - r_y) / a  # x' - y' = w0 - m z
-    n, gam, bet, big_a = p.n, p.gamma, p.beta, p.A
-    z, scale = r_z, tol * p.z_max
-    for _ in range(max_iter):
-        w = w0 - m * z
-        az = abs(z)
-        zn1 = az ** (n - 1)
-        g = big_a * w - gam * abs(w) * z * zn1 - bet * w * az * zn1
-        dg_dz = -n * zn1 * (gam * abs(w) + bet * w * _sign(z))
-        dg_dw = big_a - gam * _sign(w) * z * zn1 - bet * az * zn1
-        step = (z - r_z - a * g) / (1.0 - a * (dg_dz - m * dg_dw))
-        z -= step
-        if abs(step) <= scale:
-            return q + a * m * z, z
-    raise SolverFailed(f"Spencer MR damper: Newton did not converge in {max_iter} iterations (|dz| = {abs(step):.3g})")
 
 
 def _settled_loop(params: SpencerParams, voltage: float, velocity: float, frequency: float, cycles: int, n: int):

@@ -1,5 +1,5 @@
 """The six-axis isolator with a force damper (a damper with its own states: the Spencer MR damper of
-`uavdamp.damping.mr_batch`) along each damper axis of its semi-active elements, in time.
+`uavdamp.damping.dampers.SpencerMR`, one axis per damper) along each damper axis of its semi-active elements, in time.
 
 The payload obeys the six-axis model (`uavdamp.platform.six_axis`) with the semi-active elements' damping at 0
 along their damper axes, plus the dampers' forces: M q'' + C_0 (q' - u') + K (q - u) = -D^T F, D the damper axes'
@@ -34,15 +34,17 @@ from uavdamp.platform.statespace import StateSpace, discretise
 
 
 class BatchDamper(Protocol):
-    """n dampers advanced together (`uavdamp.damping.mr_batch.SpencerBatch`): each needs the force F (N) to move its
-    stroke x (m) at rate x' (m s-1) and takes a command (here a voltage, V)."""
+    """n dampers advanced together (`uavdamp.damping.dampers.SpencerMR` with n axes): each needs the force F (N) to
+    move its stroke x (m) at rate x' (m s-1) and takes a command (here a voltage, V)."""
+
+    force_mean: np.ndarray  # N (n,), the last step's mean force
 
     def reset(self, x0) -> None: ...  # at rest at the strokes x0 (m)
 
     def force(self, x, xd) -> np.ndarray: ...  # F (n,) at the present state
 
-    # advance over h at the held commands on the Hermite stroke; (F at the end, step-mean F), N (n,) each
-    def step(self, h: float, command, x0, xd0, x1, xd1, start_force=None) -> tuple[np.ndarray, np.ndarray]: ...
+    # advance over h at the held commands on the Hermite stroke: F at the end, N (n,); the step's mean: force_mean
+    def step(self, h: float, command, x0, xd0, x1, xd1) -> np.ndarray: ...
 
 
 def damper_axes(isolator: SixAxisIsolator) -> list[tuple[int, int]]:
@@ -110,7 +112,8 @@ def integrate(
         x0, xd0 = strokes(w[:, k], k, slopes[k])
         start = dampers.force(x0, xd0)
         predicted = free + start.reshape(n_runs, -1) @ g_f.T
-        _, mean = dampers.step(h, volts, x0, xd0, *strokes(predicted, k + 1, slopes[k]), start_force=start)
+        dampers.step(h, volts, x0, xd0, *strokes(predicted, k + 1, slopes[k]))
+        mean = dampers.force_mean
         w[:, k + 1] = free + mean.reshape(n_runs, -1) @ g_f.T
         forces[:, k] = mean.reshape(n_runs, -1)
     return w, u, applied, forces

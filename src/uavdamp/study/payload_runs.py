@@ -29,8 +29,8 @@ from uavdamp.camera.criteria import CRITERIA, los_std, pixel_attrs, window_mask
 from uavdamp.camera.image_quality import frame_summary, frames_from_image_path
 from uavdamp.camera.optics import CameraModel, image_displacement_px
 from uavdamp.contract import MountMotion
+from uavdamp.damping.dampers import SpencerMR
 from uavdamp.damping.laws import Constant
-from uavdamp.damping.mr_batch import SpencerBatch
 from uavdamp.platform import six_axis_force, wire_rope
 from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia
 from uavdamp.platform.gimbal_sim import simulate_many
@@ -212,9 +212,14 @@ def mr_law_motions(section, params, max_substep: float, schedules: list, time: n
     (B, n, n_semi))."""
     found = six_axis_isolator(section, 0.0)
     u = _coordinates(mount)
-    dampers = partial(SpencerBatch, params, max_substep=max_substep)
+    dampers = partial(_dampers, params, max_substep)
     states, _, applied, _ = six_axis_force.integrate(found, dampers, time, u[:, :3].T, u[:, 3:].T, schedules)
     return [_state_motion(found, w, u, float(time[1] - time[0])) for w in states], applied
+
+
+def _dampers(params, max_substep: float, n: int) -> SpencerMR:
+    """n Spencer MR dampers (one per damper axis of every run), advanced together."""
+    return SpencerMR(params, n_axes=n, max_substep=max_substep)
 
 
 def gimbal_series(
