@@ -32,7 +32,7 @@ an input linear over each solver step (first-order hold on the solver's samples)
 Tilt roll = atan2(f_y, f_z), pitch = atan2(-f_x, f_z) (`uavdamp.platform.imu.tilt`, f_z the camera's where
 `gimbal_sim` reads the base's vertical: equal to second order in the angles), noiseless readings
 (`ImuParams.noiseless`, `read_scalar`: no bias, quantisation or clipping), then
-`uavdamp.platform.gimbal_sim.cascade_step` (the same arithmetic), the same start (integral and first torque the
+`cascade_step` (the compiled loop's arithmetic, written apart), the same start (integral and first torque the
 static imbalance torque, estimate 0) and one loop period of delay.
 
 Integration (choices). Exudyn's implicit trapezoidal rule (Newmark beta 1/4, gamma 1/2: no numerical damping)
@@ -65,7 +65,7 @@ from exudyn.itemInterface import (
 from exudyn.utilities import RigidBodyInertia
 
 from uavdamp.platform.gimbal import AXES, CHAIN, AxisGains, GimbalParams, camera_inertia, design, imbalance_torque
-from uavdamp.platform.gimbal_sim import cascade_step, loop_grid, run_dataset
+from uavdamp.platform.gimbal_sim import loop_grid, run_dataset
 from uavdamp.platform.imu import lowpass, read_scalar, tilt
 from uavdamp.platform.statespace import StateSpace, discretise
 
@@ -292,6 +292,19 @@ def _control(p: GimbalParams, imu, gains: dict, axes, model: ExudynGimbal, s: di
         s["estimate"][axis], s["integral"][axis], s["applied"][axis], _ = cascade_step(
             gains[axis], s["estimate"][axis], s["integral"][axis], gyro, tilts[axis], p.torque_limit, p.period
         )
+
+
+def cascade_step(g: AxisGains, estimate: float, integral: float, gyro: float, tilt: float, limit: float, period: float):
+    """One loop sample of an axis's cascade from its readings (gyro rad s-1, accelerometer tilt rad), in Python
+    floats: the estimate updated, the attitude P and the rate PI, the integral held while the demand saturates;
+    returns (estimate rad, integral N m, the demand clipped to +/- limit N m, saturated). Period s. The compiled
+    loop of `gimbal_sim` (`uavdamp.platform.gimbal_cascade`) is the same arithmetic, written apart."""
+    estimate = g.estimator.update(estimate, gyro, tilt)
+    error = -g.ka * estimate - gyro
+    candidate = integral + g.ki * period * error
+    demand = g.kp * error + candidate
+    saturated = abs(demand) > limit
+    return estimate, integral if saturated else candidate, min(max(demand, -limit), limit), saturated
 
 
 def _dataset(p: GimbalParams, time: np.ndarray, axes, rotvec: np.ndarray, torque: np.ndarray) -> xr.Dataset:

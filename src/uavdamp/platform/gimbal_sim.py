@@ -27,6 +27,7 @@ from uavdamp.platform.gimbal import (
     design,
     imbalance_torque,
 )
+from uavdamp.platform.gimbal_cascade import cascade
 from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, sample_channel
 from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
 
@@ -177,44 +178,31 @@ def _exogenous_run(p: GimbalParams, imu: ImuParams, time, base, rng) -> _Exogeno
 
 
 def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarray, f_z: np.ndarray, hold):
-    """The discrete cascade on one axis of each run, the runs side by side: base_loop (runs, K, states) at the loop
-    samples, f_z (runs, K), hold (runs,) N m. Returns (torque applied over each loop period, its saturation flag,
-    the estimate), each (runs, K)."""
-    axis, (n_runs, k_count, _) = g.axis, base_loop.shape
-    i = AXES.index(axis)
+    """The discrete cascade on one axis of each run, the runs side by side (`gimbal_cascade.cascade`, compiled):
+    base_loop (runs, K, states) at the loop samples, f_z (runs, K), hold (runs,) N m. Returns (torque applied over
+    each loop period, its saturation flag, the estimate), each (runs, K)."""
+    i, lateral = AXES.index(g.axis), LATERAL[g.axis]
     c_gyro, c_force = model.c[OUTPUTS.index("gyro")], model.c[OUTPUTS.index("specific_force")]
-    limit, period, lateral = p.torque_limit, p.period, LATERAL[axis]
-    held, flags, est_out = np.empty((k_count, n_runs)), np.zeros((k_count, n_runs), bool), np.empty((k_count, n_runs))
-    z, integral, estimate = np.zeros((n_runs, model.a.shape[0])), np.array(hold, float), np.zeros(n_runs)
-    applied, tilt = integral.copy(), np.zeros(n_runs)
-    phi_t, gamma = coarse.phi.T, coarse.gamma_u[:, 0]
-    f_z = np.asarray(f_z, dtype=float).T
-    base_loop = np.swapaxes(base_loop, 0, 1)  # (K, runs, states): one sample's rows contiguous
-    for k in range(k_count):
-        held[k] = applied
-        state = base_loop[k] + z
-        gyro = read(state @ c_gyro, imu.gyro_bias[i], imu.gyro_step, imu.gyro_range)
-        if axis != "yaw":
-            f_lat = read(state @ c_force, imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
-            tilt = np.arctan2(f_lat, f_z[k]) if axis == "roll" else np.arctan2(-f_lat, f_z[k])
-        estimate, integral, applied, flags[k] = cascade_step(g, estimate, integral, gyro, tilt, limit, period)
-        est_out[k] = estimate  # applied: from the next sample on (computation delay)
-        z = z @ phi_t + np.outer(held[k], gamma)
+    accel = (0.0, 0.0, 0.0) if lateral is None else (imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
+    sensors = np.array([imu.gyro_bias[i], imu.gyro_step, imu.gyro_range, *accel], dtype=float)
+    gains = np.array([g.kp, g.ki, g.ka, g.estimator.alpha], dtype=float)
+    held, flags, estimates = cascade(
+        np.ascontiguousarray(np.swapaxes(base_loop, 0, 1), dtype=float),  # (K, runs, states)
+        np.ascontiguousarray(np.asarray(f_z, dtype=float).T),
+        np.asarray(hold, dtype=float),
+        np.ascontiguousarray(c_gyro, dtype=float),
+        np.ascontiguousarray(c_force, dtype=float),
+        np.ascontiguousarray(coarse.phi.T),
+        np.ascontiguousarray(coarse.gamma_u[:, 0]),
+        sensors,
+        {"roll": 1.0, "pitch": -1.0, "yaw": 0.0}[g.axis],
+        gains,
+        float(p.torque_limit),
+        float(p.period),
+    )
     # the flag belongs to the period its torque acts in: the demand computed at k acts over period k + 1
-    flags = np.concatenate([np.zeros((1, n_runs), bool), flags[:-1]])
-    return held.T, flags.T, est_out.T
-
-
-def cascade_step(g: AxisGains, estimate, integral, gyro, tilt, limit: float, period: float):
-    """One loop sample of an axis's cascade from its readings (gyro rad s-1, accelerometer tilt rad; floats, or
-    arrays of runs side by side): the estimate updated, the attitude P and the rate PI, the integral held while the
-    demand saturates; returns (estimate rad, integral N m, the demand clipped to +/- limit N m, saturated). Period s."""
-    estimate = g.estimator.update(estimate, gyro, tilt)
-    error = -g.ka * estimate - gyro
-    candidate = integral + g.ki * period * error
-    demand = g.kp * error + candidate
-    saturated = np.abs(demand) > limit
-    return estimate, np.where(saturated, integral, candidate), np.minimum(np.maximum(demand, -limit), limit), saturated
+    flags = np.concatenate([np.zeros((1, flags.shape[1]), bool), flags[:-1]])
+    return held.T, flags.T, estimates.T
 
 
 VARIABLES = {  # name: (units, long_name) of a run's outputs (the Exudyn check's too)
