@@ -188,7 +188,7 @@ def test_tail_blades_turn_into_their_frame_y_and_positive_pitch_pushes_left(heli
     loads = sim.loads
     q, q_t = np.zeros(20), np.zeros(20)
     q_t[-1] = fh.tail_rotor.omega_rad_s
-    frames = loads.kinematics.frames(q, q_t)
+    frames = TreeKinematics(fh, 20).frames(q, q_t)
     rot = frames.tail @ loads.tail_frames
     u_t, u_p, _ = section_velocities(
         loads.tail, rot, np.tile(frames.tail_velocity, (2, 1)), np.tile(frames.tail_omega, (2, 1)), np.zeros(3)
@@ -196,7 +196,7 @@ def test_tail_blades_turn_into_their_frame_y_and_positive_pitch_pushes_left(heli
     np.testing.assert_allclose(u_t, np.tile(fh.tail_rotor.omega_rad_s * loads.tail.stations, (2, 1)), rtol=1e-12)
     np.testing.assert_allclose(u_p, 0.0, atol=1e-9)
     loads.tail_collective = 0.1
-    force, _ = loads._tail_loads(frames)
+    force = loads.update(q, q_t).tail_force
     assert force[1] > 100.0 and abs(force[0]) < 1e-6 * force[1] and abs(force[2]) < 1e-6 * force[1]
 
 

@@ -34,10 +34,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from uavdamp.helicopter import inflow as rotor_inflow
-from uavdamp.helicopter.aerodynamics import BladeAero, blade_loads, section_velocities
+from uavdamp.helicopter import rotor_kernel
+from uavdamp.helicopter.aerodynamics import BladeAero
 from uavdamp.helicopter.model import HUB_LINK, Model
 from uavdamp.helicopter.params import Aerodynamics, BladeSection, Helicopter
-from uavdamp.helicopter.treekinematics import Frames, TreeKinematics, cross
+from uavdamp.helicopter.treekinematics import TreeKinematics
 
 RELAXATION = 0.5  # 1, share of the quasi-steady uniform inflow's change taken per step
 _RX = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # RotX(-pi/2)
@@ -105,61 +106,37 @@ class RotorLoads:
         self.nu = np.zeros(3) if nu is None else np.asarray(nu, dtype=float).copy()  # inflow states (ratios)
         self.tail_lambda = 0.0  # signed tail inflow ratio (positive along the tail hub's -y)
         self.tail_collective = 0.0  # rad
-        self.kinematics = TreeKinematics(heli, len(model.mbs.GetObjectParameter(0, "jointTypes")))
-        psi = 2 * np.pi * np.arange(self.tail.n_blades) / self.tail.n_blades
-        c, s = np.cos(psi), np.sin(psi)
-        rot_y = np.zeros((psi.size, 3, 3))
-        rot_y[:, 0, 0], rot_y[:, 0, 2], rot_y[:, 1, 1], rot_y[:, 2, 0], rot_y[:, 2, 2] = c, s, 1.0, -s, c
-        self.tail_frames = rot_y @ _RX  # blade frames in the tail hub frame
+        tree = TreeKinematics(heli, len(model.mbs.GetObjectParameter(0, "jointTypes")))
+        self.tail_frames = tail_frames(self.tail.n_blades)  # blade frames in the tail hub frame
+        self._geometry = np.concatenate([tree.hub_offset, tree.tail_offset])  # m: the kernel's state
+        self._fixed = (  # the compiled loads' fixed inputs (`rotor_kernel.loads`)
+            np.ascontiguousarray(tree.azimuth),
+            np.ascontiguousarray(tree.hinge),
+            np.array([HUB_LINK, HUB_LINK + 1], dtype=np.int64),
+            _span(self.main),
+            rotor_kernel.airfoil(self.main),
+            _span(self.tail),
+            rotor_kernel.airfoil(self.tail),
+            self.tail_frames,
+        )
         self.loads = Loads()
 
     def update(self, q: np.ndarray, q_t: np.ndarray) -> Loads:
         """Loads at coordinates q, velocities q_t set as the tree's generalized forces (for the next step); the
-        inflow advanced one step."""
-        frames = self.kinematics.frames(q, q_t)
-        rot_f = frames.fuselage
-        force, moment, force_f, moment_f = self._main_loads(frames, q[HUB_LINK])
-        tail_force, tail_moment = self._tail_loads(frames)
-        relative = self.wind - frames.fuselage_velocity
-        drag = self.half_drag * np.linalg.norm(relative) * relative
-        forces = self.kinematics.generalized_forces(frames, force, moment, tail_force, tail_moment, drag)
+        inflow advanced one step. One compiled call (`uavdamp.helicopter.rotor_kernel.loads`)."""
+        tail_vi = self.tail_lambda * self.tail_omega * self.tail.tip_radius
+        state = np.concatenate([self._geometry, self.nu, [self.tip_speed], self.r_over_radius])
+        state = np.concatenate([self.wind, state, [tail_vi, self.tail_collective, self.half_drag]])
+        q, q_t = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float)
+        forces, force_f, moment_f, tail_force, tail_moment, drag, rot_f = rotor_kernel.loads(
+            q, q_t, *self._fixed, state, self.rho
+        )
         self.mbs.SetObjectParameter(0, "jointForceVector", forces)
         wind_hub = self.wind @ rot_f
         self._advance_inflow(force_f, moment_f, wind_hub)
         self._advance_tail_inflow(tail_force @ rot_f[:, 1], wind_hub)
-        total = force.sum(axis=0) + tail_force + drag
-        self.loads = Loads(force_f, moment_f, tail_force, tail_moment, drag, total)
+        self.loads = Loads(force_f, moment_f, tail_force, tail_moment, drag, forces[:3].copy())
         return self.loads
-
-    def _main_loads(self, frames: Frames, hub_angle: float):
-        """(forces (B, 3), moments (B, 3) about the hinges, global; total force and moment about the hub centre in
-        fuselage axes) of the main blades."""
-        blade, n, rot = self.main, self.main.n_blades, frames.blades
-        nu_0, nu_s, nu_c = self.nu
-        if nu_s or nu_c:
-            psi = rotor_inflow.blade_azimuth(hub_angle, n)
-            v_i = self.tip_speed * (nu_0 + self.r_over_radius * (nu_s * np.sin(psi) + nu_c * np.cos(psi))[:, None])
-        else:  # uniform inflow
-            v_i = np.full((n, self.r_over_radius.size), self.tip_speed * nu_0)
-        air = self.wind - v_i[..., None] * frames.fuselage[:, 2]
-        u = section_velocities(blade, rot, frames.hinge_velocity, frames.blade_omega, air)
-        loads = blade_loads(blade, *u, blade.twist, self.rho)
-        force = np.einsum("bij,bj->bi", rot, loads.force)
-        moment = np.einsum("bij,bj->bi", rot, loads.moment)
-        about_hub = moment.sum(axis=0) + cross(frames.hinges - frames.hub, force).sum(axis=0)
-        return force, moment, force.sum(axis=0) @ frames.fuselage, about_hub @ frames.fuselage
-
-    def _tail_loads(self, frames: Frames):
-        """(force, moment about the tail hub centre) of the tail blades, global."""
-        blade, n = self.tail, self.tail.n_blades
-        rot = frames.tail @ self.tail_frames
-        v_i = self.tail_lambda * self.tail_omega * blade.tip_radius
-        air = self.wind - v_i * frames.fuselage[:, 1]
-        vel, omega = np.broadcast_to(frames.tail_velocity, (n, 3)), np.broadcast_to(frames.tail_omega, (n, 3))
-        loads = blade_loads(
-            blade, *section_velocities(blade, rot, vel, omega, air), self.tail_collective + blade.twist, self.rho
-        )
-        return np.einsum("bij,bj->i", rot, loads.force), np.einsum("bij,bj->i", rot, loads.moment)
 
     def coefficients(self, force_f: np.ndarray, moment_f: np.ndarray) -> tuple[float, float, float]:
         """(C_T, C_L, C_M) of the main rotor from its hub loads in fuselage axes (`inflow.rotor_coefficients`)."""
@@ -194,6 +171,20 @@ class RotorLoads:
     def induced_velocity(self) -> float:
         """Mean induced velocity of the main rotor, m/s (nu_0 Omega R, positive down through the disc)."""
         return float(self.nu[0] * self.omega * self.radius)
+
+
+def tail_frames(n_blades: int) -> np.ndarray:
+    """The tail blades' frames (B, 3, 3) in the tail hub's: RotY(2 pi k / N) RotX(-pi/2) (module docstring)."""
+    psi = 2 * np.pi * np.arange(n_blades) / n_blades
+    c, s = np.cos(psi), np.sin(psi)
+    rot_y = np.zeros((psi.size, 3, 3))
+    rot_y[:, 0, 0], rot_y[:, 0, 2], rot_y[:, 1, 1], rot_y[:, 2, 0], rot_y[:, 2, 2] = c, s, 1.0, -s, c
+    return rot_y @ _RX
+
+
+def _span(blade: BladeAero) -> np.ndarray:
+    """(4, S): a blade's stations, quadrature weights, first-moment weights and twist (the kernel's layout)."""
+    return np.ascontiguousarray(np.vstack([blade.stations, blade.weights, blade.moment_weights, blade.twist]))
 
 
 def feather_offsets(heli: Helicopter, controls, hub_angle: float, step: float):
