@@ -34,7 +34,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from uavdamp.helicopter import inflow as rotor_inflow
-from uavdamp.helicopter import rotor_kernel
 from uavdamp.helicopter.aerodynamics import BladeAero
 from uavdamp.helicopter.model import HUB_LINK, Model
 from uavdamp.helicopter.params import Aerodynamics, BladeSection, Helicopter
@@ -106,9 +105,12 @@ class RotorLoads:
         self.nu = np.zeros(3) if nu is None else np.asarray(nu, dtype=float).copy()  # inflow states (ratios)
         self.tail_lambda = 0.0  # signed tail inflow ratio (positive along the tail hub's -y)
         self.tail_collective = 0.0  # rad
+        from uavdamp.helicopter import rotor_kernel  # numba on first use: a process with no flight skips it
+
         tree = TreeKinematics(heli, len(model.mbs.GetObjectParameter(0, "jointTypes")))
         self.tail_frames = tail_frames(self.tail.n_blades)  # blade frames in the tail hub frame
         self._geometry = np.concatenate([tree.hub_offset, tree.tail_offset])  # m: the kernel's state
+        self._loads = rotor_kernel.loads
         self._fixed = (  # the compiled loads' fixed inputs (`rotor_kernel.loads`)
             np.ascontiguousarray(tree.azimuth),
             np.ascontiguousarray(tree.hinge),
@@ -128,7 +130,7 @@ class RotorLoads:
         state = np.concatenate([self._geometry, self.nu, [self.tip_speed], self.r_over_radius])
         state = np.concatenate([self.wind, state, [tail_vi, self.tail_collective, self.half_drag]])
         q, q_t = np.asarray(q, dtype=float), np.asarray(q_t, dtype=float)
-        forces, force_f, moment_f, tail_force, tail_moment, drag, rot_f = rotor_kernel.loads(
+        forces, force_f, moment_f, tail_force, tail_moment, drag, rot_f = self._loads(
             q, q_t, *self._fixed, state, self.rho
         )
         self.mbs.SetObjectParameter(0, "jointForceVector", forces)
