@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import ast
 import re
+import subprocess
+import sys
 
 from conftest import ROOT
 
@@ -87,9 +89,10 @@ def test_the_packages_import_without_circles():
         visit(node, [])
 
 
-# third-party modules a function may import where it is used: heavy readers of one file format and the plotting
-# backend, so that `import uavdamp` and the numeric modules stay cheap (tests/test_flight_log.py checks the first)
-LAZY_THIRD_PARTY = {"pyulog", "pymavlink", "matplotlib"}
+# third-party modules a function may import where it is used: heavy readers of one file format, the plotting
+# backend and numba (`uavdamp.compiled`: the kernels compiled on first use), so that `import uavdamp` and the
+# numeric modules stay cheap (tests/test_flight_log.py checks the first)
+LAZY_THIRD_PARTY = {"pyulog", "pymavlink", "matplotlib", "numba"}
 
 
 def _function_imports(path):
@@ -126,3 +129,20 @@ def test_the_plant_does_not_import_the_sources():
         if module.startswith(("uavdamp.sources", "uavdamp.sources.flight_log", "uavdamp.study", "uavdamp.benchmark"))
     ]
     assert found == []
+
+
+def test_numba_waits_for_the_first_kernel_call():
+    """The modules that hold compiled kernels import without numba (`uavdamp.compiled`: a job that steps no kernel
+    skips its 0.17 s import); the first kernel call brings it in. Seen failing with `from numba import njit` at a
+    kernel module's top."""
+    script = (
+        "import sys\n"
+        "import numpy as np\n"
+        "import uavdamp.helicopter.flight, uavdamp.study.payload, uavdamp.benchmark.loop\n"
+        "from uavdamp.damping.dampers import SpencerMR, SpencerParams\n"
+        "before = 'numba' in sys.modules\n"
+        "SpencerMR(SpencerParams.published(), 1).step(1e-3, 0.0, np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1))\n"
+        "print(before, 'numba' in sys.modules)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
+    assert done.stdout.split() == ["False", "True"], done.stdout + done.stderr

@@ -42,6 +42,8 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq
 
+from uavdamp.damping import spencer_kernel
+
 V_MAX = 2.25  # V, the largest command of the paper's tests (0, 0.75, 1.5, 2.25 V); the table's range
 REFERENCE_FREQUENCY_HZ = 8.0  # Hz, reference stroke (choice: the isolator's 8 Hz design point, config platform)
 REFERENCE_VELOCITY = 0.05  # m s-1, reference stroke rate amplitude (choice: ~1 mm at 8 Hz, the paper's 1.3 mm input)
@@ -191,8 +193,6 @@ class SpencerMR:
     def __init__(self, params: SpencerParams, n_axes: int = 2, max_substep: float = MAX_SUBSTEP):
         if not max_substep > 0:
             raise ValueError(f"max_substep: must be > 0, got {max_substep}")
-        from uavdamp.damping import spencer_kernel  # numba on first use: a process that never steps one skips it
-
         self.params, self.n_axes, self.max_substep = params, int(n_axes), float(max_substep)
         self._step, self._packed = spencer_kernel.step, spencer_kernel.packed(params)
         self.reset()

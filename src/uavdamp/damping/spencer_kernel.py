@@ -15,13 +15,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from uavdamp import compiled
 from uavdamp.contract import SolverFailed
 
 # the parameters' order in the packed array (`packed`): `dampers.SpencerParams`' fields
 PARAMETERS = ("c0a", "c0b", "k0", "c1a", "c1b", "k1", "x0", "alpha_a", "alpha_b", "gamma", "beta", "A", "n", "eta")
 SDIRK_GAMMA = 1.0 - math.sqrt(0.5)  # Alexander's two-stage L-stable SDIRK: stage abscissae gamma and 1
+COMPILED = ("force", "_hermite", "_sign", "_stage", "advance")  # numba on first use (`uavdamp.compiled`), callees first
 
 
 def packed(params) -> np.ndarray:
@@ -29,14 +30,12 @@ def packed(params) -> np.ndarray:
     return np.array([float(getattr(params, k)) for k in PARAMETERS])
 
 
-@njit(cache=True)
 def force(par, y, z, u, x, xd):
     """F (N) to move the stroke x (m) at x' (m s-1) at the states y (m), z (m), u (V); par: `packed`."""
     alpha, c0, c1 = par[7] + par[8] * u, par[0] + par[1] * u, par[3] + par[4] * u
     return c1 * (alpha * z + c0 * xd + par[2] * (x - y)) / (c0 + c1) + par[5] * (x - par[6])
 
 
-@njit(cache=True)
 def _hermite(s, h, x0, xd0, x1, xd1):
     """(x, x') at the fraction s of a step h of the cubic with those end values and slopes."""
     s2, s3 = s * s, s * s * s
@@ -45,12 +44,10 @@ def _hermite(s, h, x0, xd0, x1, xd1):
     return x, xd
 
 
-@njit(cache=True)
 def _sign(value):
     return 1.0 if value > 0 else (-1.0 if value < 0 else 0.0)
 
 
-@njit(cache=True)
 def _stage(par, r_y, r_z, a, x, xd, u, scale, max_iter):
     """(y, z, |last Newton step|) with (y, z) = (r_y, r_z) + a (y', z') at the filtered command u (V): y = q + a m z
     eliminated, Newton in z until a step is within `scale` (m); the last step's size tells a failure (> scale)."""
@@ -75,7 +72,6 @@ def _stage(par, r_y, r_z, a, x, xd, u, scale, max_iter):
     return q + a * m * z, z, abs(step)
 
 
-@njit(cache=True)
 def advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, scale, max_iter, f_end, f_mean):
     """Advance every damper i over h (s) in n_sub sub-steps at its held voltage v[i] (V) on the Hermite stroke of
     (x0, xd0) to (x1, xd1) (m, m s-1): y, z, u (arrays, m, m, V) in place, the force at the step's end into f_end
@@ -128,6 +124,7 @@ def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke,
     n = y.size
     v, x0, xd0, x1, xd1 = (_per_damper(a, n) for a in (voltage, *stroke))
     n_sub = max(1, math.ceil(h / max_substep - 1e-9))
+    compiled.jit(globals(), COMPILED)
     z_max = (par[11] / (par[9] + par[10])) ** (1.0 / par[12])  # (A / (gamma + beta))^(1/n)
     f_end, f_mean = np.empty(n), np.empty(n)
     bad, miss = advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, NEWTON_TOL * z_max, max_iter, f_end, f_mean)

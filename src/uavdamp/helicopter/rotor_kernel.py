@@ -18,10 +18,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from uavdamp import compiled
 
 # the airfoil scalars' order in a rotor's packed array (`airfoil`)
 AIRFOIL = ("chord", "lift_slope", "alpha_zero_lift", "alpha_stall", "cd0", "cd2")
+# numba on first use (`uavdamp.compiled`), callees first
+COMPILED = ("_rot", "_mm", "_mv", "_tv", "_dot", "_cross", "_blade", "_loads")
 
 
 def airfoil(blade) -> np.ndarray:
@@ -29,7 +32,6 @@ def airfoil(blade) -> np.ndarray:
     return np.array([float(getattr(blade, k)) for k in AIRFOIL])
 
 
-@njit(cache=True)
 def _rot(axis, angle):
     """The rotation matrix (3, 3) about coordinate axis 0, 1 or 2 by `angle` rad."""
     c, s = math.cos(angle), math.sin(angle)
@@ -40,7 +42,6 @@ def _rot(axis, angle):
     return out
 
 
-@njit(cache=True)
 def _mm(a, b):
     """a @ b of two (3, 3) matrices."""
     out = np.zeros((3, 3))
@@ -50,29 +51,24 @@ def _mm(a, b):
     return out
 
 
-@njit(cache=True)
 def _mv(a, v):
     """a @ v of a (3, 3) matrix and a 3-vector."""
     return np.array([a[i, 0] * v[0] + a[i, 1] * v[1] + a[i, 2] * v[2] for i in range(3)])
 
 
-@njit(cache=True)
 def _tv(a, v):
     """a.T @ v (v @ a) of a (3, 3) matrix and a 3-vector."""
     return np.array([a[0, j] * v[0] + a[1, j] * v[1] + a[2, j] * v[2] for j in range(3)])
 
 
-@njit(cache=True)
 def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@njit(cache=True)
 def _cross(a, b):
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
-@njit(cache=True)
 def _blade(rot, v0, omega, air, pitch, stations, weights, moment_weights, foil, rho):
     """(force, moment about the blade frame's origin) in the common frame of one blade: its frame `rot` (3, 3,
     columns the blade axes), origin velocity v0 and angular velocity omega (3,), the air's velocity at each station
@@ -99,7 +95,6 @@ def _blade(rot, v0, omega, air, pitch, stations, weights, moment_weights, foil, 
     return _mv(rot, force), _mv(rot, np.array([0.0, -first_z, first_y]))
 
 
-@njit(cache=True)
 def loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tail_frames, state, rho):
     """(Q (n,) the generalized forces, the main rotor's force and moment about the hub centre in fuselage axes,
     the tail hub's force and moment and the fuselage drag (global), the fuselage rotation (3, 3)).
@@ -109,6 +104,11 @@ def loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tail
     tail_frames (Bt, 3, 3) the tail blades' frames on their hub; state: wind (3), hub offset (3), tail hub
     offset (3), inflow nu (3), tip speed, r / R of the main stations (S), then the tail's induced velocity, its
     collective, the drag's 0.5 rho f_e."""
+    compiled.jit(globals(), COMPILED)
+    return _loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tail_frames, state, rho)
+
+
+def _loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tail_frames, state, rho):
     hub_i, flap0, n_b, n_s = index[0], index[1], azimuth.shape[0], main.shape[1]
     wind, hub_offset, tail_offset, nu = state[0:3], state[3:6], state[6:9], state[9:12]
     tip_speed, r_over_radius = state[12], state[13 : 13 + n_s]

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from uavdamp.helicopter import inflow as rotor_inflow
+from uavdamp.helicopter import rotor_kernel
 from uavdamp.helicopter.aerodynamics import BladeAero
 from uavdamp.helicopter.model import HUB_LINK, Model
 from uavdamp.helicopter.params import Aerodynamics, BladeSection, Helicopter
@@ -105,8 +106,6 @@ class RotorLoads:
         self.nu = np.zeros(3) if nu is None else np.asarray(nu, dtype=float).copy()  # inflow states (ratios)
         self.tail_lambda = 0.0  # signed tail inflow ratio (positive along the tail hub's -y)
         self.tail_collective = 0.0  # rad
-        from uavdamp.helicopter import rotor_kernel  # numba on first use: a process with no flight skips it
-
         tree = TreeKinematics(heli, len(model.mbs.GetObjectParameter(0, "jointTypes")))
         self.tail_frames = tail_frames(self.tail.n_blades)  # blade frames in the tail hub frame
         self._geometry = np.concatenate([tree.hub_offset, tree.tail_offset])  # m: the kernel's state

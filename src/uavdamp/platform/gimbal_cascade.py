@@ -15,10 +15,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from uavdamp import compiled
+
+COMPILED = ("_read", "_cascade")  # numba on first use (`uavdamp.compiled`), callees first
 
 
-@njit(cache=True)
 def _read(x, bias, step, full_scale):
     """A sensor's reading: bias added, rounded (half to even) to the converter's step, clipped (step 0: as is)."""
     x = x + bias
@@ -27,7 +29,6 @@ def _read(x, bias, step, full_scale):
     return min(max(step * np.rint(x / step), -full_scale), full_scale)
 
 
-@njit(cache=True)
 def cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_sign, gains, limit, period):
     """The cascade of each run: base_loop (K, runs, states) the axis's state driven by the base and the noise at
     the loop samples, f_z (K, runs) m s-2 the vertical reading, hold (runs,) N m the integral's start (and the first
@@ -37,6 +38,11 @@ def cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_s
     0 (yaw: the gyro alone); gains (K_p N m s rad-1, K_i N m rad-1, K_a s-1, the filter's alpha); limit N m; period
     s. Returns (the torque applied over each period, its saturation flag at the demand's sample, the estimate),
     each (K, runs)."""
+    compiled.jit(globals(), COMPILED)
+    return _cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_sign, gains, limit, period)
+
+
+def _cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_sign, gains, limit, period):
     k_count, n_runs, n_states = base_loop.shape
     kp, ki, ka, alpha = gains[0], gains[1], gains[2], gains[3]
     held = np.empty((k_count, n_runs))

@@ -27,6 +27,7 @@ from uavdamp.platform.gimbal import (
     design,
     imbalance_torque,
 )
+from uavdamp.platform.gimbal_cascade import cascade
 from uavdamp.platform.imu import ImuParams, lowpass, noise_covariance, read, sample_channel
 from uavdamp.platform.statespace import Discrete, StateSpace, discretise, lift, propagate
 
@@ -180,8 +181,6 @@ def _control(p, imu, g: AxisGains, model, coarse: Discrete, base_loop: np.ndarra
     """The discrete cascade on one axis of each run, the runs side by side (`gimbal_cascade.cascade`, compiled):
     base_loop (runs, K, states) at the loop samples, f_z (runs, K), hold (runs,) N m. Returns (torque applied over
     each loop period, its saturation flag, the estimate), each (runs, K)."""
-    from uavdamp.platform.gimbal_cascade import cascade  # numba on first use: a process with no gimbal skips it
-
     i, lateral = AXES.index(g.axis), LATERAL[g.axis]
     c_gyro, c_force = model.c[OUTPUTS.index("gyro")], model.c[OUTPUTS.index("specific_force")]
     accel = (0.0, 0.0, 0.0) if lateral is None else (imu.accel_bias[lateral], imu.accel_step, imu.accel_range)
