@@ -22,6 +22,7 @@ rule payload_table:
         f"{OUT}/logs/payload_table.log",
     benchmark:
         f"{OUT}/benchmarks/payload_table.tsv"
+    priority: 3  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     params:
@@ -124,7 +125,7 @@ rule payload:
         f"{OUT}/logs/payload.log",
     benchmark:
         f"{OUT}/benchmarks/payload.tsv"
-    priority: 1  # the study's longest chains first: docs/getting-started.md
+    priority: 3  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     threads: config["payload"]["threads"]

@@ -19,7 +19,7 @@ rule excitation:
         f"{OUT}/excitation/cases.nc",
     log:
         f"{OUT}/logs/excitation.log",
-    priority: 1  # the study's longest chains first: docs/getting-started.md
+    priority: 3  # the study's longest chains first: docs/getting-started.md
     conda:
         ENV
     params:
