@@ -280,6 +280,27 @@ def shared_once(tmp_path_factory, name: str, make) -> Path:
     return folder
 
 
+def _compile_kernels(folder: Path) -> None:
+    """Compile the numba kernels (`uavdamp.compiled`: machine code cached beside the sources) through the calls the
+    workflow makes, before any pipeline starts: in a fresh clone the quick run's two flight jobs otherwise compile
+    the rotor's at the same time (about 17 s each under the suite's load, against 3-5 s a flight)."""
+    from uavdamp.damping.dampers import SpencerMR, SpencerParams
+    from uavdamp.helicopter import flight, model
+    from uavdamp.helicopter.rotorloads import RotorLoads
+    from uavdamp.platform.gimbal import GimbalParams
+    from uavdamp.platform.gimbal_sim import simulate
+
+    heli = flight.flight_helicopter(helicopter_of(load_config("quick.yaml")["helicopter"]).balanced())
+    built = model.build(heli)
+    n = len(built.mbs.GetObjectParameter(0, "jointTypes"))
+    RotorLoads(built, heli, heli.aerodynamics, np.zeros(3), 1.0, 1e-3).update(np.zeros(n), np.zeros(n))
+    zero = np.zeros(2)
+    SpencerMR(SpencerParams.published(), 2).step(1e-3, 0.0, zero, zero, zero, zero)
+    t = np.arange(21) * 5e-4
+    simulate(GimbalParams(), t, np.zeros((3, t.size)), np.zeros((3, t.size)), np.zeros((3, t.size)))
+    folder.mkdir(parents=True, exist_ok=True)
+
+
 def _quick_run(workdir: Path) -> None:
     with_plugin(copy_workflow(workdir))
     result = snakemake(workdir, "-j2", "all", "benchmark", *QUICK_RUN_ARGS)
@@ -291,6 +312,7 @@ def quick_run(tmp_path_factory) -> Path:
     """The quick config run from nothing through `all` and `benchmark` (the README's targets), once per test command
     (shared by the pytest-xdist workers), with the plug-in law of `plugin_override`. Tests read it; a test that
     edits a file of it works on a copy (`copy_run`)."""
+    shared_once(tmp_path_factory, "kernels", _compile_kernels)
     return shared_once(tmp_path_factory, "quick", _quick_run)
 
 

@@ -108,9 +108,10 @@ NEWTON_TOL = 1e-13  # of z_max: the Newton step at which a stage stops (its root
 
 
 def _per_damper(value, n: int) -> np.ndarray:
-    """A scalar or an (n,) array as a contiguous float (n,) array (copied only when it must be)."""
+    """A scalar or an (n,) array as a contiguous, writable float (n,) array, copied only when it must be (a read-only
+    array would be another signature for numba: another compilation)."""
     a = np.asarray(value, dtype=float)
-    return a if a.shape == (n,) and a.flags.c_contiguous else np.ascontiguousarray(np.broadcast_to(a, (n,)))
+    return np.require(a if a.shape == (n,) else np.broadcast_to(a, (n,)), dtype=float, requirements=("C", "W"))
 
 
 def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke, max_iter: int = MAX_NEWTON):
