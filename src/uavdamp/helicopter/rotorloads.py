@@ -1,10 +1,11 @@
 """Blade-element loads on the Exudyn rotorcraft, updated once per time step, with the rotors' inflow.
 
 Before Exudyn solves a step (its pre-step function), `RotorLoads.update` takes every blade's frame from the tree's
-coordinates (`uavdamp.helicopter.treekinematics`), computes the section velocities from the blades' own motion
-(flap, lag and feather included) and the air (free stream plus induced velocity), the blade-element loads
-(`uavdamp.helicopter.aerodynamics`), and sets their resultants on the blade links as the tree's generalized forces
-(``jointForceVector``), so the loads lag the state by one step. It then advances the inflow by one explicit step.
+coordinates, computes the section velocities from the blades' own motion (flap, lag and feather included) and the
+air (free stream plus induced velocity), the blade-element loads, and sets their resultants on the blade links as
+the tree's generalized forces (``jointForceVector``), so the loads lag the state by one step; all of that in one
+compiled call (`uavdamp.helicopter.rotor_kernel`, the arithmetic of `uavdamp.helicopter.treekinematics` and
+`uavdamp.helicopter.aerodynamics`, its tested reference). It then advances the inflow by one explicit step.
 
 - Main blades: pitch = built-in twist only; collective and cyclic enter as the feather joints' position offsets
   against the pitch-link spring (`feather_offsets`), so the feather link's frame is the pitched blade frame.
