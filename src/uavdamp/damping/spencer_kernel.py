@@ -110,6 +110,10 @@ NEWTON_TOL = 1e-13  # of z_max: the Newton step at which a stage stops (its root
 def _per_damper(value, n: int) -> np.ndarray:
     """A scalar or an (n,) array as a contiguous, writable float (n,) array, copied only when it must be (a read-only
     array would be another signature for numba: another compilation)."""
+    if isinstance(value, np.ndarray) and value.dtype == np.float64 and value.shape == (n,):
+        flags = value.flags
+        if flags.c_contiguous and flags.writeable:  # the common case, at a tenth of np.require's cost
+            return value
     a = np.asarray(value, dtype=float)
     return np.require(a if a.shape == (n,) else np.broadcast_to(a, (n,)), dtype=float, requirements=("C", "W"))
 
