@@ -5,9 +5,9 @@ filtered command exact for a held voltage) for many independent dampers in one c
 `dampers.SpencerMR` steps its dampers through `step` (the platform's two axes in the benchmark, every damper of the
 payload's runs side by side in `uavdamp.platform.six_axis_force`); `tests/test_spencer_kernel.py` checks it against
 the scheme written out in plain Python, and `tests/test_dampers.py` the scheme against Radau. Compiled once per
-machine (``cache=True``: numba keeps the machine code beside this file; about 0.5 s the first time), a stage solve of
-96 dampers took 7 us against 110 us for the numpy arrays it replaced (measured at c9e4420; a whole step now:
-`benchmarks/bench_spencer.py`).
+machine (``cache=True``: numba keeps the machine code beside this file; 1.5 s the first time, imports included),
+a stage solve of 96 dampers took 7 us against 110 us for the numpy arrays it replaced (measured at c9e4420; a
+whole step now: `benchmarks/bench_spencer.py`).
 """
 
 from __future__ import annotations
@@ -134,5 +134,8 @@ def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke,
     f_end, f_mean = np.empty(n), np.empty(n)
     bad, miss = advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, NEWTON_TOL * z_max, max_iter, f_end, f_mean)
     if bad >= 0:
-        raise SolverFailed(f"Spencer MR damper: Newton did not converge in {max_iter} iterations (|dz| = {miss:.3g})")
+        raise SolverFailed(
+            f"Spencer MR damper: Newton did not converge in {max_iter} iterations on damper {bad} of {n} "
+            f"(|dz| = {miss:.3g} m, stroke rate {xd0[bad]:.3g} to {xd1[bad]:.3g} m/s at {v[bad]:.3g} V)"
+        )
     return f_end, f_mean
