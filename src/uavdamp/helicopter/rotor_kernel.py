@@ -6,7 +6,8 @@ and generalized forces (`uavdamp.helicopter.treekinematics`, themselves checked 
 SensorKinematicTree and virtual work) and the section velocities and loads (`uavdamp.helicopter.aerodynamics`);
 `tests/test_rotor_kernel.py` checks the kernel against them. `RotorLoads.update` takes 31 us a step where the numpy
 pieces took 261 us, and the default hover flight 11.9 s where it took 25.6 s (`benchmarks/bench_helicopter.py
---flight`, one run each, load average 1.9); compiled once per machine (``cache=True``: about 10 s the first time).
+--flight`, one run each, load average 1.9); compiled once per machine (``cache=True``: 3.5 s the first time on a
+quiet machine, imports included).
 
 Packed inputs (built once by `uavdamp.helicopter.rotorloads.RotorLoads`): per rotor its blades' stations,
 quadrature weights, first-moment weights and twist (4, S) and airfoil scalars (`AIRFOIL`); the tree's fixed parts

@@ -7,7 +7,8 @@ range: `uavdamp.platform.imu.read`); the tilt atan2(+/- f_lateral, f_z); the com
 (`imu.ComplementaryFilter`), the attitude P and the rate PI, the integral held while the demand saturates
 (anti-windup, choice), the demand clipped to the torque limit; the axis's torque response stepped over the period
 (its exact map at a held torque). The Exudyn check (`uavdamp.platform.gimbal_exudyn`) writes the same arithmetic in
-Python per sample, on its own multibody plant: `tests/test_gimbal_exudyn.py` compares the two.
+Python per sample (`cascade_step`), on its own multibody plant: `tests/test_gimbal_cascade.py` compares the two
+cascades, `tests/test_gimbal_exudyn.py` the two plants.
 """
 
 from __future__ import annotations
