@@ -1,7 +1,9 @@
 """Blade-element aerodynamics of rigid rotor blades: section velocities, section loads, span integration.
 
 Pure NumPy, no Exudyn: the caller reads each blade's frame from the multibody state, calls
-`section_velocities`, adds the pitch, calls `blade_loads` and applies the per-blade resultant.
+`section_velocities`, adds the pitch, calls `blade_loads` and applies the per-blade resultant. The flight runs do
+the same arithmetic in one compiled call per step (`uavdamp.helicopter.rotor_kernel`, tested against these
+functions); the trim's hover loads (`hover_loads`) call them directly.
 
 Frames and signs (the uavdamp model, `helicopter.py`: x forward, y left, z up, main hub a RevoluteZ about +z,
 so the main rotor turns counter-clockwise seen from above):

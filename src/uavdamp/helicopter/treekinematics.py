@@ -5,7 +5,8 @@ RevoluteZ, `hub_height` up; per main blade flap RevoluteY at RotZ(psi_k) and the
 feather RevoluteX; last, the tail hub RevoluteY at its position). A link's frame is its parent's times the joint's
 fixed rotation times the joint rotation, its origin the parent's plus the parent's rotation times the joint offset
 (the same as Exudyn's SensorKinematicTree: tests/test_helicopter_flight.py). All vectors are in the model's
-inertial axes.
+inertial axes. The flight runs compute the same frames and generalized forces inside one compiled call per step
+(`uavdamp.helicopter.rotor_kernel`); this module is its tested reference and gives it the tree's fixed geometry.
 
 Loads become generalized forces Q = J^T w, for a force F at point p and a moment M on a link: a prismatic
 ancestor joint with axis a gets a . F, a revolute one through o gets a . (M + (p - o) x F). Set once per step as the

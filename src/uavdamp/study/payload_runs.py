@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from functools import partial
 from typing import NamedTuple
 
 import numpy as np
@@ -212,14 +211,12 @@ def mr_law_motions(section, params, max_substep: float, schedules: list, time: n
     (B, n, n_semi))."""
     found = six_axis_isolator(section, 0.0)
     u = _coordinates(mount)
-    dampers = partial(_dampers, params, max_substep)
+
+    def dampers(n: int) -> SpencerMR:  # one damper per damper axis of every run, advanced together
+        return SpencerMR(params, n_axes=n, max_substep=max_substep)
+
     states, _, applied, _ = six_axis_force.integrate(found, dampers, time, u[:, :3].T, u[:, 3:].T, schedules)
     return [_state_motion(found, w, u, float(time[1] - time[0])) for w in states], applied
-
-
-def _dampers(params, max_substep: float, n: int) -> SpencerMR:
-    """n Spencer MR dampers (one per damper axis of every run), advanced together."""
-    return SpencerMR(params, n_axes=n, max_substep=max_substep)
 
 
 def gimbal_series(
