@@ -139,10 +139,6 @@ class SpencerParams:
         out = cls.published().scaled(f, s)
         return out if preload else replace(out, x0=0.0)
 
-    def coefficients(self, u):
-        """(alpha N m-1, c0 N s m-1, c1 N s m-1) at the filtered command u (V)."""
-        return self.alpha_a + self.alpha_b * u, self.c0a + self.c0b * u, self.c1a + self.c1b * u
-
     @property
     def z_max(self) -> float:
         """m, the Bouc-Wen variable's bound (A / (gamma + beta))^(1/n), reached under a monotonic stroke."""
@@ -206,7 +202,7 @@ class SpencerMR:
 
     def force(self, x, xd) -> np.ndarray:
         """F (N) at the present states for the stroke x (m) and rate xd (m s-1)."""
-        return spencer_force(self.params, self.y, self.z, self.u, np.asarray(x, float), np.asarray(xd, float))
+        return spencer_kernel.force_at(self._packed, (self.y, self.z, self.u), x, xd)
 
     def step(self, h: float, voltage, x0, xd0, x1=None, xd1=None) -> np.ndarray:
         """Advance y, z, u over a step h (s) with the command `voltage` (V, held) and the stroke x (m) and rate
@@ -218,12 +214,6 @@ class SpencerMR:
         states, stroke = (self.y, self.z, self.u), (x0, xd0, x1, xd1)
         f_end, self.force_mean = self._step(self._packed, states, voltage, h, self.max_substep, stroke)
         return f_end
-
-
-def spencer_force(p: SpencerParams, y, z, u, x, xd):
-    """F (N) at the states (y m, z m, u V) for the stroke x (m) and rate xd (m s-1): floats or arrays alike."""
-    alpha, c0, c1 = p.coefficients(u)
-    return c1 * (alpha * z + c0 * xd + p.k0 * (x - y)) / (c0 + c1) + p.k1 * (x - p.x0)
 
 
 def _settled_loop(params: SpencerParams, voltage: float, velocity: float, frequency: float, cycles: int, n: int):

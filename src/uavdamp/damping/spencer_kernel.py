@@ -22,7 +22,8 @@ from uavdamp.contract import SolverFailed
 # the parameters' order in the packed array (`packed`): `dampers.SpencerParams`' fields
 PARAMETERS = ("c0a", "c0b", "k0", "c1a", "c1b", "k1", "x0", "alpha_a", "alpha_b", "gamma", "beta", "A", "n", "eta")
 SDIRK_GAMMA = 1.0 - math.sqrt(0.5)  # Alexander's two-stage L-stable SDIRK: stage abscissae gamma and 1
-COMPILED = ("force", "_hermite", "_sign", "_stage", "advance")  # numba on first use (`uavdamp.compiled`), callees first
+# numba on first use (`uavdamp.compiled`), callees first
+COMPILED = ("force", "forces", "_hermite", "_sign", "_stage", "advance")
 
 
 def packed(params) -> np.ndarray:
@@ -34,6 +35,12 @@ def force(par, y, z, u, x, xd):
     """F (N) to move the stroke x (m) at x' (m s-1) at the states y (m), z (m), u (V); par: `packed`."""
     alpha, c0, c1 = par[7] + par[8] * u, par[0] + par[1] * u, par[3] + par[4] * u
     return c1 * (alpha * z + c0 * xd + par[2] * (x - y)) / (c0 + c1) + par[5] * (x - par[6])
+
+
+def forces(par, y, z, u, x, xd, out):
+    """F (N) of every damper i at its states (y, z, u)[i] for the stroke x[i] (m) and rate xd[i] (m s-1), into out."""
+    for i in range(y.size):
+        out[i] = force(par, y[i], z[i], u[i], x[i], xd[i])
 
 
 def _hermite(s, h, x0, xd0, x1, xd1):
@@ -72,11 +79,12 @@ def _stage(par, r_y, r_z, a, x, xd, u, scale, max_iter):
     return q + a * m * z, z, abs(step)
 
 
-def advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, scale, max_iter, f_end, f_mean):
+def advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, tolerance, max_iter, f_end, f_mean):
     """Advance every damper i over h (s) in n_sub sub-steps at its held voltage v[i] (V) on the Hermite stroke of
     (x0, xd0) to (x1, xd1) (m, m s-1): y, z, u (arrays, m, m, V) in place, the force at the step's end into f_end
     and its step mean (trapezoidal rule on the sub-steps) into f_mean (N). Returns (-1, 0.0), or (the first damper
-    whose Newton did not converge within `scale` m in max_iter iterations, its last step's size)."""
+    whose Newton did not converge within `tolerance` of z_max in max_iter iterations, its last step's size, m)."""
+    scale = tolerance * (par[11] / (par[9] + par[10])) ** (1.0 / par[12])  # z_max = (A / (gamma + beta))^(1/n), m
     g, dt = SDIRK_GAMMA, h / n_sub
     a, decay, decay_g = g * dt, math.exp(-par[13] * dt), math.exp(-par[13] * g * dt)
     for i in range(y.size):
@@ -107,15 +115,25 @@ MAX_NEWTON = 30  # Newton iterations per stage before giving up
 NEWTON_TOL = 1e-13  # of z_max: the Newton step at which a stage stops (its root to rounding)
 
 
-def _per_damper(value, n: int) -> np.ndarray:
-    """A scalar or an (n,) array as a contiguous, writable float (n,) array, copied only when it must be (a read-only
-    array would be another signature for numba: another compilation)."""
-    if isinstance(value, np.ndarray) and value.dtype == np.float64 and value.shape == (n,):
-        flags = value.flags
-        if flags.c_contiguous and flags.writeable:  # the common case, at a tenth of np.require's cost
-            return value
-    a = np.asarray(value, dtype=float)
-    return np.require(a if a.shape == (n,) else np.broadcast_to(a, (n,)), dtype=float, requirements=("C", "W"))
+def _per_damper(voltage, stroke, n: int) -> np.ndarray:
+    """The voltage and the stroke (x0, xd0, x1, xd1), scalars or (n,) each, as the rows of one new contiguous float
+    (5, n) array (a read-only or strided row would be another signature for numba: another compilation)."""
+    rows = np.empty((5, n))
+    rows[0] = voltage
+    rows[1], rows[2], rows[3], rows[4] = stroke
+    return rows
+
+
+def force_at(par: np.ndarray, states, x, xd) -> np.ndarray:
+    """F (N), (n,), of n dampers at their states (y m, z m, u V: (n,) arrays each) for the stroke x (m) and rate xd
+    (m s-1), scalars or (n,) each."""
+    y, z, u = states
+    rows = np.empty((2, y.size))
+    rows[0], rows[1] = x, xd
+    compiled.jit(globals(), COMPILED)
+    out = np.empty(y.size)
+    forces(par, y, z, u, rows[0], rows[1], out)
+    return out
 
 
 def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke, max_iter: int = MAX_NEWTON):
@@ -127,12 +145,11 @@ def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke,
         raise ValueError(f"time step: must be > 0, got {h}")
     y, z, u = states
     n = y.size
-    v, x0, xd0, x1, xd1 = (_per_damper(a, n) for a in (voltage, *stroke))
+    v, x0, xd0, x1, xd1 = _per_damper(voltage, stroke, n)
     n_sub = max(1, math.ceil(h / max_substep - 1e-9))
     compiled.jit(globals(), COMPILED)
-    z_max = (par[11] / (par[9] + par[10])) ** (1.0 / par[12])  # (A / (gamma + beta))^(1/n)
     f_end, f_mean = np.empty(n), np.empty(n)
-    bad, miss = advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, NEWTON_TOL * z_max, max_iter, f_end, f_mean)
+    bad, miss = advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, NEWTON_TOL, max_iter, f_end, f_mean)
     if bad >= 0:
         raise SolverFailed(
             f"Spencer MR damper: Newton did not converge in {max_iter} iterations on damper {bad} of {n} "
