@@ -379,6 +379,45 @@ def test_optimal_passive_ties_take_the_smallest_damping():
     assert c_best <= first_flat and cost(c_best) == 1.0
 
 
+def test_the_parabola_gain_is_the_drop_to_the_vertex_within_the_bracket():
+    """y = (x - 0.3)^2 + 1 at x = -1, 0, 1: the vertex (0.3, 1) lies 0.09 below y(0) = 1.09 on [-1, 1]; on [-1, 0.2]
+    the least value is the parabola's at 0.2, 1.01; at a monotone grid edge nothing is promised; a non-finite point
+    promises anything (refine)."""
+    x = np.array([-1.0, 0.0, 1.0])
+    y = (x - 0.3) ** 2 + 1.0
+    assert strategies.parabola_gain(x, y, -1.0, 1.0) == pytest.approx(0.09, abs=1e-12)
+    assert strategies.parabola_gain(x, y, -1.0, 0.2) == pytest.approx(0.08, abs=1e-12)
+    assert strategies.parabola_gain(x + 1.0, -(x**2) - 2.0 * x, 1.0, 2.0) == pytest.approx(0.0, abs=1e-12)
+    assert strategies.parabola_gain(x, np.array([1.0, math.inf, 2.0]), -1.0, 1.0) == math.inf
+    assert strategies.parabola_gain(x[:2], y[:2], -1.0, 0.0) == math.inf
+
+
+@pytest.mark.parametrize(
+    ("best_c", "min_gain", "refines"),
+    [(3.0, 0.01, False), (3.0, 0.001, True), (3.0, 0.0, True), (90.0, 0.02, False), (90.0, 0.005, True)],
+)
+def test_best_constant_refines_only_where_the_parabola_promises_min_gain(best_c, min_gain, refines):
+    """cost = (log C - log best_c)^2 on 5 log-spaced candidates over [1, 100] N s/m: the nearest candidate (3.16 for
+    3, the grid's edge 100 for 90) costs 0.0028 (0.0111), and the parabola through the nearest three (exact for this
+    cost) promises all of it. Above that min_gain the grid's best is kept after 5 evaluations; below it Brent
+    refines to best_c within 1 %."""
+    candidates = np.geomspace(1.0, 100.0, 5)
+    seen = []
+
+    def cost(c: float) -> float:
+        seen.append(c)
+        return (math.log(c) - math.log(best_c)) ** 2
+
+    c_best, value = strategies.best_constant(cost, candidates, DamperBounds(0.0, 200.0), min_gain=min_gain)
+    nearest = candidates[np.argmin(np.abs(np.log(candidates / best_c)))]
+    promised = (math.log(nearest) - math.log(best_c)) ** 2
+    assert 0.001 < promised < 0.02
+    if refines:
+        assert len(seen) > candidates.size and abs(math.log(c_best / best_c)) < 0.01 and value < 1e-4
+    else:
+        assert len(seen) == candidates.size and c_best == nearest and value == promised
+
+
 TABLE_METADATA = {  # name: (dims, units, long_name) of every variable reference_table returns (flat_tolerance 0.05)
     "damping_opt": (("freq_y", "freq_z", "stiffness"), "N s m-1", "damping minimising the criterion at each stiffness"),
     "criterion_opt": (("freq_y", "freq_z", "stiffness"), "m", "criterion at damping_opt (displacement)"),

@@ -48,6 +48,7 @@ class TuningOptions:
     criteria: tuple[str, ...] = setting()  # the J minimised on average over the tuning set, one per family
     n_candidates: int = setting()  # log-spaced values per parameter before the bounded refinement
     max_refine: int = setting()  # refinement evaluations (scipy bounded Brent in log value)
+    min_gain: float = setting()  # 1 (J): refine only where the parabola through the best candidates promises this
     damping_range: tuple[float, ...] = setting("damping_range_n_s_m", length=2)  # N s m-1: passive C, on-off C_max
     gain_range: tuple[float, ...] = setting("gain_range_n_s_m", length=2)  # N s m-1: skyhook/groundhook/hybrid gain
     hybrid_alpha: tuple[float, ...] = setting()  # 1, alphas tried for the hybrid
@@ -60,6 +61,7 @@ class TuningOptions:
         require(bool(self.criteria) and not unknown, where, f"unknown {unknown}: each one of {list(J_CRITERIA)}")
         families = [family_of(c) for c in self.criteria]
         require(len(set(families)) == len(families), where, f"one criterion per family {dict(FAMILIES)}")
+        require(self.min_gain >= 0, "benchmark.tuning.min_gain", f"must be >= 0, got {self.min_gain}")
         for key in ("damping_range", "gain_range", "r_scale_range"):
             lo, hi = getattr(self, key)
             require(0 < lo < hi, f"benchmark.tuning.{key}", "need 0 < min < max")

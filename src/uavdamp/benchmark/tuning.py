@@ -7,7 +7,9 @@
     register_tuned(key, ...)       a plug-in law's parameter, tuned like the built-in ones (from the plug-in's file)
 
 Each parameter of a controller minimises the mean over the tuning scenarios of J[criterion] by
-`strategies.best_constant` in its range (the hybrid's gain for each alpha), once per tuning criterion; runs are
+`strategies.best_constant` in its range (the hybrid's gain for each alpha), once per tuning criterion: the
+log-spaced candidates, then a refinement only where the parabola through the best of them and its neighbours
+promises at least `benchmark.tuning.min_gain` of J (the per-step laws' step error: finer is not resolved). Runs are
 shared between the criteria (one run gives every J). A law decided every solver step is tuned, like it is run, with
 the first of benchmark.per_step_dampers; every other law with the ideal damper.
 """
@@ -128,7 +130,7 @@ class _Search:
 
         lo, hi = value_range
         grid = np.geomspace(lo, hi, o.n_candidates)
-        return strategies.best_constant(cost, grid, DamperBounds(lo, hi), maxiter=o.max_refine)
+        return strategies.best_constant(cost, grid, DamperBounds(lo, hi), maxiter=o.max_refine, min_gain=o.min_gain)
 
 
 def _tuned_dataset(out: dict, options, names: list[str]) -> xr.Dataset:

@@ -152,13 +152,16 @@ def best_constant(
     *,
     xatol_log: float = 0.01,
     maxiter: int = 20,
+    min_gain: float = 0.0,
 ) -> tuple[float, float]:
     """The constant C (N s m-1) minimising cost(C), and its cost: the candidates first, then a refinement.
 
     candidates: > 0 and within the bounds (e.g. a log grid). The refinement is scipy's bounded Brent search
     (`minimize_scalar(method="bounded")`) in log C between the neighbours of the best candidate, to `xatol_log`
-    in log C (0.01: 1 % in C) within `maxiter` evaluations. Each C is evaluated once; a non-finite cost counts
-    as +inf; among equal costs the smallest C wins.
+    in log C (0.01: 1 % in C) within `maxiter` evaluations; it is skipped where the parabola through the best
+    candidate and its two nearest neighbours (in log C) promises less than `min_gain` (in the cost's units) below
+    the best candidate's cost (`parabola_gain`). Each C is evaluated once; a non-finite cost counts as +inf; among
+    equal costs the smallest C wins.
     """
     grid = np.unique(np.asarray(candidates, dtype=float))
     if grid.size < 2:
@@ -177,14 +180,27 @@ def best_constant(
     values = np.array([evaluate(c) for c in grid])
     k = int(np.argmin(values))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
-    minimize_scalar(
-        lambda log_c: evaluate(math.exp(log_c)),
-        bounds=(math.log(lo), math.log(hi)),
-        method="bounded",
-        options={"xatol": xatol_log, "maxiter": maxiter},
-    )
+    first = min(max(k - 1, 0), max(grid.size - 3, 0))  # the best candidate's nearest three (two at a grid of two)
+    three = slice(first, first + 3)
+    if min_gain <= 0 or parabola_gain(np.log(grid[three]), values[three], math.log(lo), math.log(hi)) >= min_gain:
+        minimize_scalar(
+            lambda log_c: evaluate(math.exp(log_c)),
+            bounds=(math.log(lo), math.log(hi)),
+            method="bounded",
+            options={"xatol": xatol_log, "maxiter": maxiter},
+        )
     c_best, value_best = min(cache.items(), key=lambda e: (e[1], e[0]))
     return c_best, value_best
+
+
+def parabola_gain(x: np.ndarray, y: np.ndarray, lo: float, hi: float) -> float:
+    """min(y) minus the least value over [lo, hi] of the parabola through the three points (x, y); +inf where a y is
+    not finite or fewer than three distinct x are given (nothing to predict from)."""
+    if x.size < 3 or not np.all(np.isfinite(y)):
+        return math.inf
+    a, b, c = np.polyfit(x, y, 2)
+    ends = [lo, hi] + ([-b / (2 * a)] if a > 0 and lo < -b / (2 * a) < hi else [])
+    return float(np.min(y) - min(np.polyval((a, b, c), e) for e in ends))
 
 
 # ------------------------------------------------------------------------------------- the benchmark's
