@@ -64,6 +64,36 @@ def test_esprit_finds_lines_and_amplitudes_of_a_noise_free_sum_exactly():
     np.testing.assert_allclose(amp, [0.5, 1.1, 1.7], rtol=1e-5)
 
 
+@pytest.mark.parametrize(
+    ("dt", "max_freq_hz", "q"),
+    [(0.002, 12.0, 1), (0.005, 12.0, 1), (1 / 1996, 12.0, 4), (1 / 1996, 47.0, 1), (1e-4, 12.0, 20)],
+)
+def test_the_decimation_keeps_at_least_40_samples_per_period_of_the_bands_top(dt, max_freq_hz, q):
+    """q = floor(fs / (40 f_max)): 500 Hz for 12 Hz is 41.7 samples a period (none), a flight log's 1996 Hz 4."""
+    assert tracking.SAMPLES_PER_PERIOD == 40
+    assert tracking.decimation_factor(dt, max_freq_hz) == q
+
+
+def test_a_fine_window_is_low_passed_then_decimated_before_esprit(monkeypatch):
+    """A 1 s window at 0.5 ms (2000 samples, q = 4: ESPRIT sees 500 at 2 ms) of a 7.07 Hz line beside a twice larger
+    495 Hz line, which decimation alone would fold onto 5 Hz, inside the 3-12 Hz band: the anti-alias filter leaves
+    the tracker on 7.07 Hz."""
+    t = np.arange(2000) * 5e-4
+    x = _lines(t, [(7.07, 1.0, 0.3), (495.0, 2.0, 1.1)], seed=0)
+    seen = []
+    esprit = tracking.esprit_lines
+    monkeypatch.setattr(
+        tracking, "esprit_lines", lambda seg, dt, order: seen.append((seg.size, dt)) or esprit(seg, dt, order)
+    )
+    tracking._SEEN.clear()
+    assert tracking.frequency_causal(t, x, t[-1], ESPRIT) == pytest.approx(7.07, abs=0.01)
+    assert seen == [(500, pytest.approx(2e-3, rel=1e-12))]
+    folded = x[::4]  # what plain decimation would give: the 495 Hz line at 5 Hz, larger than 7.07 Hz
+    assert tracking.esprit_dominant(folded, 2e-3, model_order=4, min_freq_hz=3.0, max_freq_hz=12.0) == pytest.approx(
+        5.0, abs=0.01
+    )
+
+
 @pytest.mark.parametrize("f0", [3.37, 7.013, 11.83])
 def test_single_off_bin_sine(f0):
     t = np.arange(0, 1.0 + 1e-9, 0.002)
