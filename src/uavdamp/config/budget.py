@@ -44,7 +44,7 @@ def flight_seconds(heli, duration: float) -> float:
     return FLIGHT_COST * (trim.settle + phases * (trim.step_settle + revolutions) + heli.flight.release + duration)
 
 
-MR_COST = 5.0  # 1, a run with the Spencer MR damper over an ideal one's (config/config.yaml benchmark.dampers: ~5x)
+MR_COST = 1.7  # 1, a run with the Spencer MR damper over another damper's (default benchmark, 2026-12-05: 145 against 86 s)
 
 
 def benchmark_runs(config) -> dict[str, int]:
