@@ -44,7 +44,8 @@ def flight_seconds(heli, duration: float) -> float:
     return FLIGHT_COST * (trim.settle + phases * (trim.step_settle + revolutions) + heli.flight.release + duration)
 
 
-MR_COST = 1.7  # 1, a run with the Spencer MR damper over another damper's (default benchmark, 2026-12-05: 145 against 86 s)
+# a run with the Spencer MR damper over another damper's, 1 (the default benchmark, 2026-12-05: 145 against 86 s)
+MR_COST = 1.7
 
 
 def benchmark_runs(config) -> dict[str, int]:
