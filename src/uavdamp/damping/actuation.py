@@ -117,6 +117,11 @@ class MRDamper:
         self.damper.step(h, self.volts, x0, xd0, x1, xd1)
         return self.damper.force_mean.copy()
 
+    def couple(self, h, x0, xd0, free_end, g_rows) -> np.ndarray:
+        """`ForceDamper.couple`: the predictor-corrector step compiled (`SpencerMR.coupled_step`); the step's mean."""
+        self.damper.coupled_step(h, self.volts, (x0, xd0), free_end, g_rows)
+        return self.damper.force_mean.copy()
+
     def save(self):
         d = self.damper
         return d.y.copy(), d.z.copy(), d.u.copy()

@@ -215,6 +215,15 @@ class SpencerMR:
         f_end, self.force_mean = self._step(self._packed, states, voltage, h, self.max_substep, stroke)
         return f_end
 
+    def coupled_step(self, h: float, voltage: float, start, free_end, g_rows) -> np.ndarray:
+        """The coupling's predictor-corrector step (`spencer_kernel.couple`) at the held `voltage` (V) from the stroke
+        `start` = (x0 m, xd0 m s-1) with the plant's free stroke and rates `free_end` and force response `g_rows`;
+        F (N) at the end, and `force_mean` the step's mean."""
+        f_end, self.force_mean = spencer_kernel.coupled_step(
+            self._packed, (self.y, self.z, self.u), voltage, h, self.max_substep, start, free_end, g_rows
+        )
+        return f_end
+
 
 def _settled_loop(params: SpencerParams, voltage: float, velocity: float, frequency: float, cycles: int, n: int):
     """(x', F) over the last of `cycles` periods of x = X sin(omega t), X = velocity / omega, u settled at

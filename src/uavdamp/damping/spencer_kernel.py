@@ -23,7 +23,7 @@ from uavdamp.contract import SolverFailed
 PARAMETERS = ("c0a", "c0b", "k0", "c1a", "c1b", "k1", "x0", "alpha_a", "alpha_b", "gamma", "beta", "A", "n", "eta")
 SDIRK_GAMMA = 1.0 - math.sqrt(0.5)  # Alexander's two-stage L-stable SDIRK: stage abscissae gamma and 1
 # numba on first use (`uavdamp.compiled`), callees first
-COMPILED = ("force", "forces", "_hermite", "_sign", "_stage", "advance")
+COMPILED = ("force", "forces", "_hermite", "_sign", "_stage", "advance", "_stroke_end", "couple")
 
 
 def packed(params) -> np.ndarray:
@@ -111,6 +111,37 @@ def advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, tolerance, max_iter, f_
     return -1, 0.0
 
 
+def _stroke_end(free_end, g_rows, f, x1, xd1):
+    """The stroke x1 (m) and rate xd1 (m s-1) at a step's end under the forces f (N): free_end - g_rows f, its first
+    half the strokes, its second the rates."""
+    n = f.size
+    for r in range(n):
+        s, sd = 0.0, 0.0
+        for c in range(n):
+            s += g_rows[r, c] * f[c]
+            sd += g_rows[n + r, c] * f[c]
+        x1[r], xd1[r] = free_end[r] - s, free_end[n + r] - sd
+
+
+def couple(par, y, z, u, v, h, n_sub, x0, xd0, free_end, g_rows, tolerance, max_iter, f_end, f_mean):
+    """`uavdamp.platform.force_coupling`'s predictor-corrector step of these dampers in one call: the stroke at the
+    step's end predicted from the forces at its start (free_end - g_rows F), the dampers stepped on it from a copy of
+    their states (`advance`) for their step mean, the stroke corrected with that mean, and the dampers stepped on it
+    in place. free_end (2n,): the plant's strokes then rates at the step's end without a damper force; g_rows (2n, n):
+    their response to a unit force held over the step. f_end, f_mean as `advance`'s; returns what it returns."""
+    n = y.size
+    x1, xd1 = np.empty(n), np.empty(n)
+    for i in range(n):
+        f_end[i] = force(par, y[i], z[i], u[i], x0[i], xd0[i])
+    _stroke_end(free_end, g_rows, f_end, x1, xd1)
+    ys, zs, us = y.copy(), z.copy(), u.copy()
+    bad, miss = advance(par, ys, zs, us, v, h, n_sub, x0, xd0, x1, xd1, tolerance, max_iter, f_end, f_mean)
+    if bad >= 0:
+        return bad, miss
+    _stroke_end(free_end, g_rows, f_mean, x1, xd1)
+    return advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, tolerance, max_iter, f_end, f_mean)
+
+
 MAX_NEWTON = 30  # Newton iterations per stage before giving up
 NEWTON_TOL = 1e-13  # of z_max: the Newton step at which a stage stops (its root to rounding)
 
@@ -134,6 +165,26 @@ def force_at(par: np.ndarray, states, x, xd) -> np.ndarray:
     out = np.empty(y.size)
     forces(par, y, z, u, rows[0], rows[1], out)
     return out
+
+
+def coupled_step(par: np.ndarray, states, voltage: float, h: float, max_substep: float, start, free_end, g_rows):
+    """`couple` for n dampers of one `SpencerParams` (par: `packed`) at their held `voltage` (V) from the stroke
+    `start` = (x0 m, xd0 m s-1), (n,) each, over h (s) in ceil(h / max_substep) sub-steps: states (y, z, u) in place.
+    Returns (F at the end, F averaged over the step), N, (n,) each. SolverFailed as `step`."""
+    y, z, u = states
+    n = y.size
+    x0, xd0 = start
+    v = np.full(n, float(voltage))
+    n_sub = max(1, math.ceil(h / max_substep - 1e-9))
+    compiled.jit(globals(), COMPILED)
+    f_end, f_mean = np.empty(n), np.empty(n)
+    bad, miss = couple(par, y, z, u, v, h, n_sub, x0, xd0, free_end, g_rows, NEWTON_TOL, MAX_NEWTON, f_end, f_mean)
+    if bad >= 0:
+        raise SolverFailed(
+            f"Spencer MR damper: Newton did not converge in {MAX_NEWTON} iterations on damper {bad} of {n} "
+            f"(|dz| = {miss:.3g} m, stroke rate {xd0[bad]:.3g} m/s at the step's start, at {voltage:.3g} V)"
+        )
+    return f_end, f_mean
 
 
 def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke, max_iter: int = MAX_NEWTON):

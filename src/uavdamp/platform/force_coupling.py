@@ -52,7 +52,9 @@ class ForceDamper(Protocol):
 
     def restore(self, state) -> None: ...
 
-    # optional: rate_gain(h) -> k (N m-1), the step's mean force k (x_1 - x_0), the damper advanced over h
+    # optional: rate_gain(h) -> k (N m-1), the step's mean force k (x_1 - x_0), the damper advanced over h;
+    # couple(h, x0, xd0, free_end, g_rows) -> the step's mean force: the predictor-corrector below in one call (the MR
+    # damper's compiled one), the damper advanced over h
 
 
 class Viscous:
@@ -135,6 +137,7 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     force_rows = np.vstack([gamma_f, c_rows @ gamma_f])
     g_rows = force_rows[ns:]
     linear, g_stroke, eye = hasattr(damper, "rate_gain"), g_rows[:2], np.eye(2)  # module docstring
+    couple = getattr(damper, "couple", None)
     end = c_rows @ z[0] + share[0]
     damper.reset(end[:2])
     for n in range(steps):
@@ -149,6 +152,8 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
         if linear:
             k = damper.rate_gain(h)
             force[n] = np.linalg.solve(eye + k * g_stroke, k * (free_end[:2] - x0))
+        elif couple is not None:
+            force[n] = couple(h, x0, xd0, free_end, g_rows)
         else:
             saved = damper.save()
             predicted = free_end - g_rows @ damper.force(x0, xd0)
