@@ -94,18 +94,19 @@ def test_the_figures_show_every_damper_a_controller_ran_with():
     ds = gathered(2)
     fig = plots.criteria_figure(ds)
     titles = [ax.get_title() for ax in fig.axes if ax.get_title()]
-    assert sorted(t.split("(")[1] for t in titles) == sorted(["ideal damper)", "mr damper)"] * 2)
-    mr = next(ax for ax in fig.axes if ax.get_title() == "mean J, K = 10 N/m (mr damper)")
+    assert sorted(t.split(":")[0] for t in titles) == sorted(["ideal", "mr"] * 2)  # a row each: mean and worst
+    mr = next(ax for ax in fig.axes if ax.get_title() == "mr: mean J, K = 10 N/m")
     texts = [t.get_text() for t in mr.texts]
     assert texts.count("-") == len(CRITERIA)  # skyhook_on_off's row: not run
     boxes = plots.boxplot_figure(ds, criteria=("los_std",))
-    assert [ax.get_title().split(", ")[1] for ax in boxes.axes] == ["ideal damper", "mr damper"]
+    legend = boxes.axes[0].get_legend()
+    assert [t.get_text() for t in legend.get_texts()] == ["ideal damper", "mr damper"]  # side by side in one panel
 
 
 def test_fewer_than_five_scenarios_are_points_not_boxes():
     few = plots.boxplot_figure(gathered(2), criteria=("los_std",)).axes[0]
-    points = [line for line in few.lines if line.get_marker() == "o"]
-    assert len(points) == len(CONTROLLERS) and all(len(p.get_xdata()) == 2 for p in points)
+    points = [line for line in few.lines if line.get_marker() == "o"]  # per controller and damper it ran with
+    assert len(points) == 2 * len(CONTROLLERS) - 1 and all(len(p.get_xdata()) == 2 for p in points)
     assert "(points)" in few.get_title() and not [line for line in few.lines if line.get_linestyle() == "-"]
     many = plots.boxplot_figure(gathered(5), criteria=("los_std",)).axes[0]
     drawn = [line for line in many.lines if line.get_linestyle() == "-"]  # boxes, whiskers, caps, medians

@@ -19,59 +19,82 @@ def _dampers(ds: xr.Dataset, dampers) -> list[str]:
 
 
 def criteria_figure(ds: xr.Dataset, dampers=None):
-    """Heat maps of log10 J (controllers x criteria): evaluation mean and worst, one column per stiffness and
-    damper (default: every damper a controller ran with); '-' where a controller did not run."""
-    panels = [(k, d) for d in _dampers(ds, dampers) for k in ds.stiffness.values]
-    size = (min(16.0, 5.5 * len(panels)), 8.5)
-    fig, axes = plt.subplots(2, len(panels), figsize=size, squeeze=False, constrained_layout=True)
-    for col, (k, damper) in enumerate(panels):
-        for row, name in enumerate(("J_mean", "J_worst")):
-            ax = axes[row, col]
+    """Heat maps of log10 J (controllers x criteria): one row per damper (default: every damper a controller ran
+    with), the evaluation mean at each stiffness then the worst across; '-' where a controller did not run."""
+    rows = _dampers(ds, dampers)
+    cols = [(name, k) for name in ("J_mean", "J_worst") for k in ds.stiffness.values]
+    size = (min(16.0, 3.6 * len(cols) + 1.5), min(9.0, 1.4 + 2.6 * len(rows)))
+    fig, axes = plt.subplots(len(rows), len(cols), figsize=size, squeeze=False, constrained_layout=True)
+    for r, damper in enumerate(rows):
+        for c, (name, k) in enumerate(cols):
+            ax = axes[r, c]
             values = ds[name].sel(stiffness=k, damper=damper).transpose("controller", "criterion").values
             shown = np.log10(np.maximum(values, 10**-2.5))  # J = 0 (e.g. no unsharp frame) at the colour scale's end
             image = ax.imshow(np.ma.masked_invalid(shown), cmap="viridis_r", vmin=-2.5, vmax=0.5, aspect="auto")
             ax.set_facecolor("0.9")
             for (i, j), v in np.ndenumerate(values):
                 text, colour = ("-", "0.4") if not np.isfinite(v) else (f"{v:.3g}", "w" if v < 0.1 else "k")
-                ax.text(j, i, text, ha="center", va="center", fontsize=7, color=colour)
-            ax.set_xticks(range(ds.criterion.size), ds.criterion.values, rotation=35, ha="right", fontsize=8)
-            ax.set_yticks(range(ds.controller.size), ds.controller.values, fontsize=8)
-            ax.set_title(f"{'mean' if name == 'J_mean' else 'worst'} J, K = {k:g} N/m ({damper} damper)", fontsize=9)
+                ax.text(j, i, text, ha="center", va="center", fontsize=6.5, color=colour)
+            bottom, left = r == len(rows) - 1, c == 0
+            ax.set_xticks(range(ds.criterion.size), ds.criterion.values if bottom else [], rotation=35, ha="right")
+            ax.set_yticks(range(ds.controller.size), ds.controller.values if left else [])
+            ax.tick_params(labelsize=7)
+            ax.set_title(f"{damper}: {'mean' if name == 'J_mean' else 'worst'} J, K = {k:g} N/m", fontsize=8.5)
     fig.colorbar(image, ax=axes, label="log10 J (J = 1: rigid mount; '-': not run)", shrink=0.6)
     return fig
 
 
 def boxplot_figure(ds: xr.Dataset, criteria=("los_std", "blur_p95", "displacement_std"), dampers=None):
-    """J over the evaluation scenarios per controller, one row per criterion, one column per K and damper: box
-    plots from `MIN_BOX_SCENARIOS` scenarios up, every scenario as a point below that."""
-    panels = [(k, d) for d in _dampers(ds, dampers) for k in ds.stiffness.values]
+    """J over the evaluation scenarios per controller, one row per criterion, one column per K, the dampers side by side
+    in colour: box plots from `MIN_BOX_SCENARIOS` scenarios up, every scenario as a point below that."""
+    shown_dampers = _dampers(ds, dampers)
+    stiffness = ds.stiffness.values
     evaluation = ds.J.where(ds.set == "evaluation", drop=True)
     n = evaluation.scenario.size
     fig, axes = plt.subplots(
         len(criteria),
-        len(panels),
-        figsize=(min(16.0, 6 * len(panels)), min(11.5, 3.2 * len(criteria))),
+        len(stiffness),
+        figsize=(min(16.0, 8 * len(stiffness)), min(11.5, 3.2 * len(criteria))),
         squeeze=False,
         constrained_layout=True,
     )
     names = [str(c) for c in ds.controller.values]
-    for col, (k, damper) in enumerate(panels):
+    width = 0.8 / len(shown_dampers)
+    for col, k in enumerate(stiffness):
         for row, criterion in enumerate(criteria):
             ax = axes[row, col]
-            at = evaluation.sel(stiffness=k, criterion=criterion, damper=damper)
-            data = [at.sel(controller=c).values for c in names]
-            data = [d[np.isfinite(d)] for d in data]
-            if n >= MIN_BOX_SCENARIOS:
-                ax.boxplot(data, showfliers=True, medianprops={"color": "k", "lw": 1.5})
-            else:
-                for i, d in enumerate(data, start=1):
-                    ax.plot(np.full(d.size, i), d, "o", color="C0", ms=5, alpha=0.8)
+            for m, damper in enumerate(shown_dampers):
+                at = evaluation.sel(stiffness=k, criterion=criterion, damper=damper)
+                data = [at.sel(controller=c).values for c in names]
+                data = [d[np.isfinite(d)] for d in data]
+                positions = np.arange(1, len(names) + 1) - 0.4 + width * (m + 0.5)
+                colour = f"C{m}"
+                if n >= MIN_BOX_SCENARIOS:
+                    kept = [(p, d) for p, d in zip(positions, data, strict=True) if d.size]
+                    if kept:
+                        ax.boxplot(
+                            [d for _, d in kept],
+                            positions=[p for p, _ in kept],
+                            widths=0.9 * width,
+                            showfliers=True,
+                            boxprops={"color": colour},
+                            whiskerprops={"color": colour},
+                            capprops={"color": colour},
+                            medianprops={"color": "k", "lw": 1.2},
+                            flierprops={"markeredgecolor": colour, "markersize": 3},
+                        )
+                else:
+                    for p, d in zip(positions, data, strict=True):
+                        if d.size:  # not run: no points
+                            ax.plot(np.full(d.size, p), d, "o", color=colour, ms=4, alpha=0.8)
+                ax.plot([], [], "s", color=colour, label=f"{damper} damper")
             ax.set_xticks(range(1, len(names) + 1), names, rotation=35, ha="right", fontsize=8)
             ax.set_xlim(0.5, len(names) + 0.5)
             ax.set_yscale("log")
             ax.set_ylabel(f"J {criterion} (1; rigid = 1)")
             shown = "boxes" if n >= MIN_BOX_SCENARIOS else "points"
-            ax.set_title(f"K = {k:g} N/m, {damper} damper, {n} evaluation scenarios ({shown})", fontsize=9)
+            ax.set_title(f"K = {k:g} N/m, {n} evaluation scenarios ({shown})", fontsize=9)
+    axes[0, -1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     return fig
 
 
