@@ -143,6 +143,21 @@ def test_a_newton_that_cannot_converge_fails_naming_the_damper():
         spencer_kernel.step(dampers._packed, (dampers.y, dampers.z, dampers.u), V_MAX, H, H, stroke, max_iter=1)
 
 
+def test_the_coupled_step_fails_naming_the_damper_too():
+    from uavdamp.damping import spencer_kernel
+
+    x, xd = _strokes(2, 1)
+    dampers = SpencerMR(PARAMS, 2)
+    free_end, g_rows = np.concatenate([x[1], xd[1] * 1e3]), np.zeros((4, 2))  # the plant moves the strokes alone
+    rule = r"Spencer MR damper: Newton did not converge in 1 iterations on damper [01] of 2 \(\|dz\| = "
+    with pytest.raises(SolverFailed, match=rule):
+        spencer_kernel.coupled_step(
+            dampers._packed, (dampers.y, dampers.z, dampers.u), V_MAX, H, H, (x[0], xd[0] * 1e3), free_end, g_rows, 1
+        )
+    with pytest.raises(ValueError, match="time step: must be > 0"):
+        dampers.coupled_step(0.0, 0.0, (x[0], xd[0]), free_end, g_rows)
+
+
 @pytest.mark.parametrize(("build", "rule"), [
     (lambda: SpencerMR(PARAMS, 2, max_substep=0.0), "max_substep: must be > 0"),
     (lambda: SpencerMR(PARAMS, 2).step(0.0, 0.0, 0.0, 0.0, 0.0, 0.0), "time step: must be > 0"),

@@ -167,10 +167,14 @@ def force_at(par: np.ndarray, states, x, xd) -> np.ndarray:
     return out
 
 
-def coupled_step(par: np.ndarray, states, voltage: float, h: float, max_substep: float, start, free_end, g_rows):
+def coupled_step(
+    par: np.ndarray, states, voltage: float, h: float, max_substep: float, start, free_end, g_rows, max_iter=MAX_NEWTON
+):
     """`couple` for n dampers of one `SpencerParams` (par: `packed`) at their held `voltage` (V) from the stroke
     `start` = (x0 m, xd0 m s-1), (n,) each, over h (s) in ceil(h / max_substep) sub-steps: states (y, z, u) in place.
     Returns (F at the end, F averaged over the step), N, (n,) each. SolverFailed as `step`."""
+    if not h > 0:
+        raise ValueError(f"time step: must be > 0, got {h}")
     y, z, u = states
     n = y.size
     x0, xd0 = start
@@ -178,10 +182,10 @@ def coupled_step(par: np.ndarray, states, voltage: float, h: float, max_substep:
     n_sub = max(1, math.ceil(h / max_substep - 1e-9))
     compiled.jit(globals(), COMPILED)
     f_end, f_mean = np.empty(n), np.empty(n)
-    bad, miss = couple(par, y, z, u, v, h, n_sub, x0, xd0, free_end, g_rows, NEWTON_TOL, MAX_NEWTON, f_end, f_mean)
+    bad, miss = couple(par, y, z, u, v, h, n_sub, x0, xd0, free_end, g_rows, NEWTON_TOL, max_iter, f_end, f_mean)
     if bad >= 0:
         raise SolverFailed(
-            f"Spencer MR damper: Newton did not converge in {MAX_NEWTON} iterations on damper {bad} of {n} "
+            f"Spencer MR damper: Newton did not converge in {max_iter} iterations on damper {bad} of {n} "
             f"(|dz| = {miss:.3g} m, stroke rate {xd0[bad]:.3g} m/s at the step's start, at {voltage:.3g} V)"
         )
     return f_end, f_mean
