@@ -18,6 +18,12 @@ def _dampers(ds: xr.Dataset, dampers) -> list[str]:
     return [d for d in names if dampers is not None or np.isfinite(ds.J_mean.sel(damper=d).values).any()]
 
 
+def _ink(image, value: float) -> str:
+    """Black on a light cell of the image's colour map, white on a dark one (luminance of the cell's colour)."""
+    r, g, b, _ = image.cmap(image.norm(value))
+    return "k" if 0.299 * r + 0.587 * g + 0.114 * b > 0.5 else "w"
+
+
 def criteria_figure(ds: xr.Dataset, dampers=None):
     """Heat maps of log10 J (controllers x criteria): one row per damper (default: every damper a controller ran
     with), the evaluation mean at each stiffness then the worst across; '-' where a controller did not run."""
@@ -33,7 +39,7 @@ def criteria_figure(ds: xr.Dataset, dampers=None):
             image = ax.imshow(np.ma.masked_invalid(shown), cmap="viridis_r", vmin=-2.5, vmax=0.5, aspect="auto")
             ax.set_facecolor("0.9")
             for (i, j), v in np.ndenumerate(values):
-                text, colour = ("-", "0.4") if not np.isfinite(v) else (f"{v:.3g}", "w" if v < 0.1 else "k")
+                text, colour = ("-", "0.4") if not np.isfinite(v) else (f"{v:.3g}", _ink(image, shown[i, j]))
                 ax.text(j, i, text, ha="center", va="center", fontsize=6.5, color=colour)
             bottom, left = r == len(rows) - 1, c == 0
             ax.set_xticks(range(ds.criterion.size), ds.criterion.values if bottom else [], rotation=35, ha="right")
