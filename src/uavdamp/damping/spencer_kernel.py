@@ -155,6 +155,22 @@ def _per_damper(voltage, stroke, n: int) -> np.ndarray:
     return rows
 
 
+def _sub_steps(h: float, max_substep: float) -> int:
+    """ceil(h / max_substep) sub-steps of a step h (s), kernels compiled (`uavdamp.compiled`); ValueError if h <= 0."""
+    if not h > 0:
+        raise ValueError(f"time step: must be > 0, got {h}")
+    compiled.jit(globals(), COMPILED)
+    return max(1, math.ceil(h / max_substep - 1e-9))
+
+
+def _not_converged(bad: int, n: int, miss: float, max_iter: int, stroke: str) -> SolverFailed:
+    """The error naming damper `bad` of n whose Newton stopped |dz| = miss (m) short after max_iter iterations."""
+    return SolverFailed(
+        f"Spencer MR damper: Newton did not converge in {max_iter} iterations on damper {bad} of {n} "
+        f"(|dz| = {miss:.3g} m, {stroke})"
+    )
+
+
 def force_at(par: np.ndarray, states, x, xd) -> np.ndarray:
     """F (N), (n,), of n dampers at their states (y m, z m, u V: (n,) arrays each) for the stroke x (m) and rate xd
     (m s-1), scalars or (n,) each."""
@@ -173,20 +189,16 @@ def coupled_step(
     """`couple` for n dampers of one `SpencerParams` (par: `packed`) at their held `voltage` (V) from the stroke
     `start` = (x0 m, xd0 m s-1), (n,) each, over h (s) in ceil(h / max_substep) sub-steps: states (y, z, u) in place.
     Returns (F at the end, F averaged over the step), N, (n,) each. SolverFailed as `step`."""
-    if not h > 0:
-        raise ValueError(f"time step: must be > 0, got {h}")
+    n_sub = _sub_steps(h, max_substep)
     y, z, u = states
     n = y.size
     x0, xd0 = start
     v = np.full(n, float(voltage))
-    n_sub = max(1, math.ceil(h / max_substep - 1e-9))
-    compiled.jit(globals(), COMPILED)
     f_end, f_mean = np.empty(n), np.empty(n)
     bad, miss = couple(par, y, z, u, v, h, n_sub, x0, xd0, free_end, g_rows, NEWTON_TOL, max_iter, f_end, f_mean)
     if bad >= 0:
-        raise SolverFailed(
-            f"Spencer MR damper: Newton did not converge in {max_iter} iterations on damper {bad} of {n} "
-            f"(|dz| = {miss:.3g} m, stroke rate {xd0[bad]:.3g} m/s at the step's start, at {voltage:.3g} V)"
+        raise _not_converged(
+            bad, n, miss, max_iter, f"stroke rate {xd0[bad]:.3g} m/s at the step's start, at {voltage:.3g} V"
         )
     return f_end, f_mean
 
@@ -196,18 +208,14 @@ def step(par: np.ndarray, states, voltage, h: float, max_substep: float, stroke,
     (choice) at their held `voltage` (V, scalar or (n,)): states (y m, z m, u V), (n,) arrays each, in place;
     stroke (x0, xd0, x1, xd1) m and m s-1 at the step's start and end (scalars or (n,)). Returns (F at the end, F
     averaged over the step), N, (n,) each. SolverFailed when a Newton does not converge (states partly advanced)."""
-    if not h > 0:
-        raise ValueError(f"time step: must be > 0, got {h}")
+    n_sub = _sub_steps(h, max_substep)
     y, z, u = states
     n = y.size
     v, x0, xd0, x1, xd1 = _per_damper(voltage, stroke, n)
-    n_sub = max(1, math.ceil(h / max_substep - 1e-9))
-    compiled.jit(globals(), COMPILED)
     f_end, f_mean = np.empty(n), np.empty(n)
     bad, miss = advance(par, y, z, u, v, h, n_sub, x0, xd0, x1, xd1, NEWTON_TOL, max_iter, f_end, f_mean)
     if bad >= 0:
-        raise SolverFailed(
-            f"Spencer MR damper: Newton did not converge in {max_iter} iterations on damper {bad} of {n} "
-            f"(|dz| = {miss:.3g} m, stroke rate {xd0[bad]:.3g} to {xd1[bad]:.3g} m/s at {v[bad]:.3g} V)"
+        raise _not_converged(
+            bad, n, miss, max_iter, f"stroke rate {xd0[bad]:.3g} to {xd1[bad]:.3g} m/s at {v[bad]:.3g} V"
         )
     return f_end, f_mean
