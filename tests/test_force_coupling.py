@@ -143,3 +143,14 @@ def test_the_mr_dampers_compiled_coupling_is_the_predictor_corrector_written_out
         compiled, generic = (run[name].values for run in runs)
         assert np.abs(generic).max() > 0
         np.testing.assert_allclose(compiled, generic, rtol=0, atol=1e-12 * np.abs(generic).max(), err_msg=name)
+
+
+def test_the_exact_linear_step_is_numpys_solution_of_the_two_by_two_system():
+    """Cramer's rule against `numpy.linalg.solve` on seeded systems I + k G, G with either sign and asymmetric."""
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        k, g, free = 10 ** rng.uniform(-3, 3), rng.normal(size=(2, 2)) * 10 ** rng.uniform(-8, -2), rng.normal(size=2)
+        expected = np.linalg.solve(np.eye(2) + k * g, k * free)
+        got = force_coupling._exact_linear(k, *g.ravel().tolist(), free)
+        scale = np.linalg.cond(np.eye(2) + k * g) * np.abs(expected).max()
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-13 * scale)

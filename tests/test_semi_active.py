@@ -147,6 +147,38 @@ def test_clipped_optimal_observer_tracks_the_plant(plant, params):
     assert error.max() < 1e-3 * np.abs(true).max()  # measured 1.3e-5
 
 
+def test_clipped_optimal_estimate_is_the_kalman_recursion_written_out(plant, params):
+    """Each step's estimate replayed from the law's recorded observations and forces by the textbook predictor-
+    corrector on the law's own matrices, term by term: z = phi z_hat + gamma_u u_prev + gamma_v u' + gamma_f F,
+    z_hat = z + L (y - [h_pos z + du_pos u; h_vel z + dv_vel u'])."""
+    law = semi_active.ClippedOptimal(
+        plant.model, 10.0, DamperBounds.from_params(params), params.time_step, q_scale=1e-3, r_scale=0.1
+    )
+    seen = []
+
+    class Spy(_Recorder):
+        def __call__(self, obs):
+            force = self.law._force.copy()
+            c = self.law(obs)
+            seen.append((obs.mount[-2:].copy(), obs.time[-2:].copy(), obs, force, self.law.z_hat.copy()))
+            return c
+
+    time, y, z = sine_yz(7.0, 8.0, 1.3e-3, 0.2, params.time_step)
+    roll = 0.01 * np.sin(2 * np.pi * 5.0 * time)  # rad: the mount's roll reaches the measurement through du, dv
+    motion = MountMotion(np.stack([np.zeros_like(y), y, z]), np.stack([roll, np.zeros_like(y), np.zeros_like(y)]))
+    plant.run(time, motion, stiffness=10.0, law=Spy(law))
+    for (mount, t, obs, force, z_hat), (_, _, _, _, previous) in zip(seen[1:], seen[:-1], strict=True):
+        slope = (mount[1] - mount[0]) / (t[1] - t[0])
+        step = law.step
+        z_pred = step.phi @ previous + step.gamma_u @ mount[0] + step.gamma_v @ slope + law.gamma_f @ force
+        measured = np.concatenate([obs.stroke + mount[1][1:3], obs.base_velocity])
+        predicted = np.concatenate(
+            [law.h_pos @ z_pred + law.du_pos @ mount[1], law.h_vel @ z_pred + law.dv_vel @ slope]
+        )
+        expected = z_pred + law.kalman @ (measured - predicted)
+        np.testing.assert_allclose(z_hat, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
+
+
 # --------------------------------------------------------------------------------------------------- table lookup
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import expm, solve_continuous_are, solve_discrete_are
+from scipy.linalg import block_diag, expm, solve_continuous_are, solve_discrete_are
 
 from uavdamp.contract import DamperBounds, Observation, clip
 from uavdamp.platform.force_coupling import damper_input
@@ -27,13 +27,15 @@ from uavdamp.platform.statespace import discretise
 _TINY_RATE = 1e-12  # m2 s-2: |v_rel|^2 below this counts as no stroke motion (the projection is undefined)
 
 
-def projected_damping(force: np.ndarray, v_rel: np.ndarray, c_min: float, c_max: float) -> float:
+def projected_damping(force, v_rel, c_min: float, c_max: float) -> float:
     """C >= 0 (N s m-1) whose force -C v_rel is closest to `force` (N, (y, z)), c_min where that C is < 0 or
-    undefined; capped at c_max so that the demand stays finite when v_rel is nearly zero."""
-    rate2 = float(np.dot(v_rel, v_rel))
+    undefined; capped at c_max so that the demand stays finite when v_rel is nearly zero. On floats: the laws call
+    it every solver step with two-component vectors."""
+    (f_y, f_z), (v_y, v_z) = (float(f) for f in force), (float(v) for v in v_rel)
+    rate2 = v_y * v_y + v_z * v_z
     if rate2 < _TINY_RATE:
         return c_min
-    c = -float(np.dot(force, v_rel)) / rate2
+    c = -(f_y * v_y + f_z * v_z) / rate2
     return clip(c, DamperBounds(0.0, c_max), math.nan) if c > 0.0 else c_min
 
 
@@ -64,11 +66,10 @@ class Hybrid:
 
     def decide(self, v_abs: np.ndarray, v_mount: np.ndarray) -> float:
         """C, N s m-1, for the base's and the mount's absolute velocities, m s-1, (y, z)."""
-        v_abs, v_mount = np.asarray(v_abs, float), np.asarray(v_mount, float)
-        v_rel = v_abs - v_mount
-        b = self.bounds
-        sky = projected_damping(-self.gain * v_abs, v_rel, 0.0, b.c_max)
-        ground = projected_damping(self.gain * v_mount, v_rel, 0.0, b.c_max)
+        (a_y, a_z), (m_y, m_z) = (float(v) for v in v_abs), (float(v) for v in v_mount)  # floats: `projected_damping`
+        v_rel, g, b = (a_y - m_y, a_z - m_z), self.gain, self.bounds
+        sky = projected_damping((-g * a_y, -g * a_z), v_rel, 0.0, b.c_max)
+        ground = projected_damping((g * m_y, g * m_z), v_rel, 0.0, b.c_max)
         c = self.alpha * sky + (1.0 - self.alpha) * ground
         return c if c > 0.0 else b.c_min
 
@@ -144,6 +145,10 @@ class ClippedOptimal:
         p = solve_discrete_are(self.step.phi.T, h_meas.T, w, v)
         self.kalman = p @ h_meas.T @ np.linalg.inv(h_meas @ p @ h_meas.T + v)
         self.h_meas = h_meas
+        # one product a step each: the prediction on (z_hat, u_prev, slope, force), the inputs' share of the
+        # measurement on (u, slope)
+        self._predict = np.hstack([self.step.phi, self.step.gamma_u, self.step.gamma_v, self.gamma_f])
+        self._measure_inputs = block_diag(self.du_pos, self.dv_vel)
 
     def reset(self) -> None:
         self.z_hat, self._force, self._c_prev = None, np.zeros(2), self.bounds.c_min
@@ -157,14 +162,9 @@ class ClippedOptimal:
         else:
             u_prev = np.asarray(obs.mount[-2], float)
             slope = (u - u_prev) / (obs.time[-1] - obs.time[-2])
-            z = (
-                self.step.phi @ self.z_hat
-                + self.step.gamma_u @ u_prev
-                + self.step.gamma_v @ slope
-                + self.gamma_f @ self._force
-            )
+            z = self._predict @ np.concatenate([self.z_hat, u_prev, slope, self._force])
         measured = np.concatenate([np.asarray(obs.stroke, float) + u[1:3], np.asarray(obs.base_velocity, float)])
-        predicted = np.concatenate([self.h_pos @ z + self.du_pos @ u, self.h_vel @ z + self.dv_vel @ slope])
+        predicted = self.h_meas @ z + self._measure_inputs @ np.concatenate([u, slope])
         return z + self.kalman @ (measured - predicted)
 
     def __call__(self, observation: Observation) -> float:

@@ -109,6 +109,16 @@ def force_map(plant, b_f: np.ndarray, h: float) -> np.ndarray:
     return expm(big * h)[:ns, ns:]
 
 
+def _exact_linear(k: float, g00: float, g01: float, g10: float, g11: float, free_stroke) -> tuple[float, float]:
+    """F_d (N, (y, z)) solving (I + k G) F_d = k x_free (the module docstring; x_free the stroke's free increment, m)
+    by Cramer's rule on floats: a 2 x 2 system, solved once a step, where `numpy.linalg.solve`'s call costs more than
+    the arithmetic (its solution to round-off: tests/test_force_coupling.py)."""
+    r0, r1 = k * float(free_stroke[0]), k * float(free_stroke[1])
+    a00, a01, a10, a11 = 1.0 + k * g00, k * g01, k * g10, 1.0 + k * g11
+    det = a00 * a11 - a01 * a10
+    return (a11 * r0 - a01 * r1) / det, (a00 * r1 - a10 * r0) / det
+
+
 def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr.Dataset:
     """One run of the isolated linear plant (`LinearPlant`) with `damper` between base and mount, the law's clipped
     demand commanding it; the response as `LinearPlant.run` plus `damper_force` (axis, time), N: the force on the
@@ -136,7 +146,8 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     free_drive = np.hstack([drive, drive @ c_rows.T + share[1:]])
     force_rows = np.vstack([gamma_f, c_rows @ gamma_f])
     g_rows = force_rows[ns:]
-    linear, g_stroke, eye = hasattr(damper, "rate_gain"), g_rows[:2], np.eye(2)  # module docstring
+    linear = hasattr(damper, "rate_gain")  # module docstring
+    (g00, g01), (g10, g11) = g_rows[:2].tolist()  # the stroke's response to a unit force, G
     couple = getattr(damper, "couple", None)
     end = c_rows @ z[0] + share[0]
     damper.reset(end[:2])
@@ -150,8 +161,7 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
         free = free_map @ z[n] + free_drive[n]  # (ns + 4,): the free state, then its stroke and rate
         free_end = free[ns:]
         if linear:
-            k = damper.rate_gain(h)
-            force[n] = np.linalg.solve(eye + k * g_stroke, k * (free_end[:2] - x0))
+            force[n] = _exact_linear(damper.rate_gain(h), g00, g01, g10, g11, free_end[:2] - x0)
         elif couple is not None:
             force[n] = couple(h, x0, xd0, free_end, g_rows)
         else:

@@ -324,19 +324,21 @@ class LinearPlant:
 
     def _demand(self, law, n: int, run: dict, z: np.ndarray) -> float:
         """The law's demand at grid point n (state z at t_n), clipped, with the Observation the Exudyn plant gives."""
-        if "isolator" not in run:  # the isolator rows of tq, tv and the inputs' share, once per run
+        if "isolator" not in run:  # the isolator rows of tq and tv stacked, and the inputs' share, once per run
             model, iso = self.model, [self.model.lin.link_index[k] for k in _ISOLATOR]
             pq = model.pq[iso]
-            run["isolator"] = (model.tq[iso], model.tv[iso], run["u"] @ pq.T, run["rate"] @ pq.T)
-        tq, tv, u_share, rate_share = run["isolator"]
+            share = np.hstack([run["u"] @ pq.T, run["rate"] @ pq.T])
+            run["isolator"] = (np.vstack([model.tq[iso], model.tv[iso]]), share)
+        rows, share = run["isolator"]
+        isolator = rows @ z + share[n]  # stroke (y, z), then its rate
         mount_v = run["rate"][n][1:3].copy()
         observation = Observation(
             t_now=float(run["time"][n]),
             time=run["time"][: n + 1],
             mount=run["u"][: n + 1],
-            base_velocity=mount_v + (tv @ z + rate_share[n]),
+            base_velocity=mount_v + isolator[2:],
             mount_velocity=mount_v,
-            stroke=tq @ z + u_share[n],
+            stroke=isolator[:2],
         )
         return contract.counted_clip(law, observation, self.bounds, run["clips"])
 
