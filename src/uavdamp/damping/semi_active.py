@@ -31,12 +31,14 @@ def projected_damping(force, v_rel, c_min: float, c_max: float) -> float:
     """C >= 0 (N s m-1) whose force -C v_rel is closest to `force` (N, (y, z)), c_min where that C is < 0 or
     undefined; capped at c_max so that the demand stays finite when v_rel is nearly zero. On floats: the laws call
     it every solver step with two-component vectors."""
-    (f_y, f_z), (v_y, v_z) = (float(f) for f in force), (float(v) for v in v_rel)
+    v_y, v_z = float(v_rel[0]), float(v_rel[1])
     rate2 = v_y * v_y + v_z * v_z
     if rate2 < _TINY_RATE:
         return c_min
-    c = -(f_y * v_y + f_z * v_z) / rate2
-    return clip(c, DamperBounds(0.0, c_max), math.nan) if c > 0.0 else c_min
+    c = -(float(force[0]) * v_y + float(force[1]) * v_z) / rate2
+    if c <= 0.0 or math.isnan(c):
+        return c_min
+    return min(c, c_max) if c < math.inf else clip(c, DamperBounds(0.0, c_max), math.nan)  # clip: raises on inf
 
 
 class Hybrid:
@@ -66,7 +68,7 @@ class Hybrid:
 
     def decide(self, v_abs: np.ndarray, v_mount: np.ndarray) -> float:
         """C, N s m-1, for the base's and the mount's absolute velocities, m s-1, (y, z)."""
-        (a_y, a_z), (m_y, m_z) = (float(v) for v in v_abs), (float(v) for v in v_mount)  # floats: `projected_damping`
+        a_y, a_z, m_y, m_z = float(v_abs[0]), float(v_abs[1]), float(v_mount[0]), float(v_mount[1])  # floats
         v_rel, g, b = (a_y - m_y, a_z - m_z), self.gain, self.bounds
         sky = projected_damping((-g * a_y, -g * a_z), v_rel, 0.0, b.c_max)
         ground = projected_damping((g * m_y, g * m_z), v_rel, 0.0, b.c_max)
