@@ -281,13 +281,18 @@ def test_a_callable_schedule_sees_the_outputs_and_acts_from_then_on():
     seen = []
 
     def law(t, y):
-        seen.append(y[DOFS.index("z")])
+        seen.append(y.copy())
         return np.full(4, 1.0 if y[6 + 12 + 2] > 0 else 6.0)  # element 0's z stroke rate (after 12 strokes)
 
     out = run(iso, time, np.vstack([zero, zero, z]), np.zeros((3, time.size)), schedule=law)
     again = run(iso, time, np.vstack([zero, zero, z]), np.zeros((3, time.size)), schedule=out.damping.values)
     np.testing.assert_allclose(again.payload_translation.values, out.payload_translation.values, rtol=0, atol=1e-15)
-    np.testing.assert_allclose(seen, out.payload_translation.values[2], rtol=0, atol=1e-15)
+    seen = np.array(seen)  # every output the law saw is the one the run reports at that sample
+    np.testing.assert_allclose(seen[:, DOFS.index("z")], out.payload_translation.values[2], rtol=0, atol=1e-15)
+    n_el = iso.n_elements
+    for part, name in ((slice(6, 6 + 3 * n_el), "element_stroke"), (slice(6 + 3 * n_el, None), "element_stroke_rate")):
+        reported = out[name].values.transpose(2, 0, 1).reshape(time.size, -1)
+        np.testing.assert_allclose(seen[:, part], reported, rtol=0, atol=1e-12 * np.abs(reported).max())
     assert set(np.unique(out.damping.values)) == {1.0, 6.0}
 
 

@@ -14,6 +14,7 @@ Karnopp's on-off skyhook with a tunable C_max is `uavdamp.damping.laws.Skyhook(c
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -36,9 +37,13 @@ def projected_damping(force, v_rel, c_min: float, c_max: float) -> float:
     if rate2 < _TINY_RATE:
         return c_min
     c = -(float(force[0]) * v_y + float(force[1]) * v_z) / rate2
-    if c <= 0.0 or math.isnan(c):
-        return c_min
-    return min(c, c_max) if c < math.inf else clip(c, DamperBounds(0.0, c_max), math.nan)  # clip: raises on inf
+    return clip(c, _capped(c_max), math.nan) if c > 0.0 else c_min
+
+
+@functools.lru_cache(maxsize=16)
+def _capped(c_max: float) -> DamperBounds:
+    """[0, c_max], built once per c_max (the projection runs every solver step)."""
+    return DamperBounds(0.0, c_max)
 
 
 class Hybrid:

@@ -97,22 +97,28 @@ def integrate(
     applied = np.zeros((n_runs, n, n_semi))
     forces = np.zeros((n_runs, n - 1, d.shape[0]))
 
-    def strokes(states: np.ndarray, k: int, slope: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return ((states[:, :6] - u[k]) @ d.T).ravel(), ((states[:, 6:] - slope) @ d.T).ravel()
+    # the inputs' shares, every sample at once: of the outputs, of the free step, of the strokes and their rates
+    driven = u @ outputs.du.T + rates @ outputs.dv.T
+    drive = u[:-1] @ g_u.T + slopes @ g_v.T
+    mount_strokes, mount_rates = u @ d.T, slopes @ d.T
 
-    dampers.reset(strokes(w[:, 0], 0, rates[0])[0])
+    def strokes(states: np.ndarray, k: int, j: int) -> tuple[np.ndarray, np.ndarray]:
+        """The strokes at sample k and their rates on step j of the states (B, 12), flat (B n_f,)."""
+        return (states[:, :6] @ d.T - mount_strokes[k]).ravel(), (states[:, 6:] @ d.T - mount_rates[j]).ravel()
+
+    dampers.reset(strokes(w[:, 0], 0, 0)[0])
     for k in range(n):
-        y = w[:, k] @ outputs.c.T + u[k] @ outputs.du.T + rates[k] @ outputs.dv.T
+        y = w[:, k] @ outputs.c.T + driven[k]
         for b, (schedule, plan) in enumerate(zip(schedules, plans, strict=True)):
             applied[b, k] = plan[k] if plan is not None else np.asarray(schedule(float(t[k]), y[b]), dtype=float)
         if k == n - 1:
             break
         volts = applied[:, k][:, owner].ravel()
-        free = w[:, k] @ phi.T + u[k] @ g_u.T + slopes[k] @ g_v.T
-        x0, xd0 = strokes(w[:, k], k, slopes[k])
+        free = w[:, k] @ phi.T + drive[k]
+        x0, xd0 = strokes(w[:, k], k, k)
         start = dampers.force(x0, xd0)
         predicted = free + start.reshape(n_runs, -1) @ g_f.T
-        dampers.step(h, volts, x0, xd0, *strokes(predicted, k + 1, slopes[k]))
+        dampers.step(h, volts, x0, xd0, *strokes(predicted, k + 1, k))
         mean = dampers.force_mean
         w[:, k + 1] = free + mean.reshape(n_runs, -1) @ g_f.T
         forces[:, k] = mean.reshape(n_runs, -1)

@@ -71,7 +71,8 @@ def run(
         key = tuple(c.tolist())
         if key not in cache:
             plant = state_space(isolator, None if own else c)
-            cache[key] = (plant, discretise(plant, h))
+            step = discretise(plant, h)
+            cache[key] = (plant, step, np.hstack([step.phi, step.gamma_u, step.gamma_v]))  # (12, 24) on (z, u, u')
         return cache[key]
 
     z = np.zeros((n, 12))
@@ -88,13 +89,13 @@ def run(
                 z[start : stop + 1] = propagate(step, z[start], u[start:stop], slopes[start:stop], lifted)
     else:
         outputs = state_space(isolator)  # the outputs do not depend on the damping
+        driven = u @ outputs.du.T + rates @ outputs.dv.T  # the inputs' share of the outputs, every sample at once
+        held = np.hstack([u[:-1], slopes])  # each step's (u, u')
         for k in range(n):
-            y = outputs.c @ z[k] + outputs.du @ u[k] + outputs.dv @ rates[k]
-            c = np.asarray(schedule(float(t[k]), y), dtype=float).ravel()
+            c = np.asarray(schedule(float(t[k]), outputs.c @ z[k] + driven[k]), dtype=float).ravel()
             applied[k] = c
             if k < n - 1:
-                step = model(c)[1]
-                z[k + 1] = step.phi @ z[k] + step.gamma_u @ u[k] + step.gamma_v @ slopes[k]
+                z[k + 1] = model(c)[2] @ np.concatenate([z[k], held[k]])
     plant = state_space(isolator)  # the outputs do not depend on the damping
     y = z @ plant.c.T + u @ plant.du.T + rates @ plant.dv.T
     return run_dataset(isolator, t, u, y, np.full_like(applied, np.nan) if own else applied, z[:, 6:])
