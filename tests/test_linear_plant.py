@@ -181,10 +181,12 @@ def test_decision_function_sees_what_it_sees_in_exudyn(isolated):
     sim, plant = isolated
     time, y, z = sine_yz(7.0, 8.0, 1.3e-3, 1.2, sim.params.time_step)
     seen: dict[str, list] = {"exudyn": [], "linear": []}
+    mounts: dict[str, list] = {"exudyn": [], "linear": []}  # the mount's history each decision sees
 
     def law(name):
         def decide(s) -> float:
             seen[name].append((s.t_now, s.time.size, s.base_velocity.copy(), s.mount_velocity.copy(), s.stroke.copy()))
+            mounts[name].append(np.array(s.mount, dtype=float))
             return 1e4 if s.t_now >= 0.5 else -1.0  # clipped to [0, 200]
 
         return FunctionLaw(decide, 0.25)
@@ -203,6 +205,12 @@ def test_decision_function_sees_what_it_sees_in_exudyn(isolated):
         # before the switch to 200 N s/m the strokes agree to 2.6e-7 m (0.02 %); after it Exudyn's first-order switch
         # error (test_gap_after_a_damping_switch_is_first_order_in_the_step) shows: up to 4.7 % of the amplitude
         assert np.abs(stroke_l - stroke_e).max() < (5e-4 if t_e <= 0.5 else 0.06) * stroke_scale
+    # the mount's history up to the decision (a law such as clipped-optimal reads its last two samples): the input
+    # itself, one row per sample of the observation's time, in both plants
+    for (_, n, *_), mount_e, mount_l in zip(seen["linear"], mounts["exudyn"], mounts["linear"], strict=True):
+        assert mount_l.shape[0] == n
+        np.testing.assert_array_equal(mount_l[:, 1:3], np.column_stack([y[:n], z[:n]]))  # x, y, z, then angles
+        np.testing.assert_array_equal(mount_l, mount_e)
 
 
 def test_switching_every_step_between_two_levels_costs_two_discretisations(monkeypatch):
