@@ -146,3 +146,20 @@ def test_numba_waits_for_the_first_kernel_call():
     )
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
     assert done.stdout.split() == ["False", "True"], done.stdout + done.stderr
+
+
+def test_the_snakefile_checks_the_config_without_scikit_learn():
+    """What every Snakemake start does before planning (the Snakefile's imports, then every key typed and checked
+    against the schema, each other and the budget, as `snakemake benchmark` asks) imports no scikit-learn: the
+    estimators cost about 0.5 s of each start (a dry run of the quick run 4.0 -> 3.5 s, farm-bench, 2026-12-07).
+    Seen failing with the config checks importing the training rows' split from `uavdamp.anfis.training`."""
+    script = (
+        "import sys, yaml\n"
+        "from uavdamp.config import budget, checks, files\n"
+        "from uavdamp.workflow import config_errors_alone, export_provenance\n"
+        "typed, estimate = checks.validate(yaml.safe_load(open('config/config.yaml')), benchmark=True)\n"
+        "checks.stiffness_warnings(typed), checks.extrapolation(typed), budget.summary(estimate)\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] == 'sklearn')[:3])\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]", done.stdout + done.stderr

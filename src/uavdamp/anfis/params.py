@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from uavdamp.settings import require, setting
 
 BASELINES = ("linear", "gp", "knn", "hgb")  # the baseline regressors by name (`uavdamp.anfis.baselines.make`)
@@ -12,6 +14,18 @@ CANDIDATE_KEYS = {"grid": "n_mfs", "fcm": "n_rules", "subtractive": "radius"}  #
 EPOCH_SELECTION = ("validation", "checking")
 SELECTION_RULES = ("one_se", "best")  # fewest rules within one standard error of the best, or the best
 _W = "anfis."
+
+
+# here beside the section, not in `training`: the config checks count the training rows without importing the
+# estimators (scikit-learn: 0.6 s of every Snakemake start)
+def split(n: int, train_fraction: float, seed: int) -> np.ndarray:
+    """Boolean mask of the training rows: a seeded random `train_fraction` of n (at least one of each)."""
+    if n < 2:
+        raise ValueError(f"need at least 2 samples to split, got {n}")
+    n_train = min(max(int(round(train_fraction * n)), 1), n - 1)
+    mask = np.zeros(n, dtype=bool)
+    mask[np.random.default_rng(seed).permutation(n)[:n_train]] = True
+    return mask
 
 
 @dataclass(frozen=True)

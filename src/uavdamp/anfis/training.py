@@ -30,7 +30,7 @@ from threadpoolctl import threadpool_limits
 from uavdamp import parallel
 from uavdamp.anfis import baselines, model_selection
 from uavdamp.anfis.damping import INPUTS, DampingModel, Regret, regret
-from uavdamp.anfis.params import AnfisOptions
+from uavdamp.anfis.params import AnfisOptions, split
 from uavdamp.reference_table.criteria import select_grid, select_table
 
 __all__ = ["INPUTS", "DampingModel", "regret", "select_target", "split", "table_samples", "train"]
@@ -60,16 +60,6 @@ def select_target(table: xr.Dataset, grid: xr.Dataset | None, target: tuple[str,
         values = select_grid(grid, *target)
         grid = xr.Dataset({"criterion": values.reset_coords(drop=True)})
     return chosen, grid
-
-
-def split(n: int, train_fraction: float, seed: int) -> np.ndarray:
-    """Boolean mask of the training rows: a seeded random `train_fraction` of n (at least one of each)."""
-    if n < 2:
-        raise ValueError(f"need at least 2 samples to split, got {n}")
-    n_train = min(max(int(round(train_fraction * n)), 1), n - 1)
-    mask = np.zeros(n, dtype=bool)
-    mask[np.random.default_rng(seed).permutation(n)[:n_train]] = True
-    return mask
 
 
 def _fit_baseline(model: DampingModel, X, y) -> tuple[DampingModel, float]:

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from uavdamp import plugins
-from uavdamp.anfis.training import split
+from uavdamp.anfis.params import split
 from uavdamp.benchmark.scenarios import scenario_specs
 from uavdamp.config import budget, flight_logs
 from uavdamp.config.load import Config, load
@@ -160,7 +160,7 @@ def _check_run_length(config: Config) -> None:
 
 def _check_folds(config: Config) -> None:
     """anfis.selection.folds at most the training rows the reference table can give (every (f_y, f_z, K) point a
-    row, anfis.train_fraction of them for training: `uavdamp.anfis.training.split`; failed points only remove), and
+    row, anfis.train_fraction of them for training: `uavdamp.anfis.params.split`; failed points only remove), and
     the payload ANFIS's reference likewise (every (f_a, f_b, K) cell a row: `uavdamp.study.payload_anfis`)."""
 
     grid, anfis = config.reference_table, config.anfis
