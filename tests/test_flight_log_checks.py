@@ -10,6 +10,8 @@ import types
 
 import numpy as np
 import pytest
+import yaml
+from conftest import ROOT, deep_update, load_config
 from flight_log_writers import combined, fifo, gyro_fft, write_ulog
 from pymavlink.DFReader import DFFormat, DFReader_binary
 from pyulog import ULog
@@ -253,6 +255,20 @@ def test_a_mistyped_log_path_and_an_unknown_policy_are_refused_naming_the_key():
         checks.validate(_merged(override))
     with pytest.raises(ValueError, match=r"flight_logs.quadrotor.on_ground"):
         checks.validate(_merged({"flight_logs": {"quadrotor": {"on_ground": "ignore"}}}))
+
+
+def test_a_measured_scenario_the_payload_benchmark_cannot_resample_is_refused_before_the_benchmark():
+    """config/quick.yaml with config/multirotor.yaml: the vtol log's grid (1 / (its rate x its upsample), 0.4888 ms)
+    over quick's payload.time_step_s of 1 ms is 611 / 1250, no ratio of integers up to 1000, so the benchmark on the
+    payload could not resample the vtol_hop scenario (it failed mid-run). The benchmark target is refused before any
+    job naming the scenario and the key; the study's targets are not, nor the benchmark at config.yaml's 0.5 ms
+    (611 / 625) or without the benchmark on the payload."""
+    config = deep_update(load_config("quick.yaml"), yaml.safe_load((ROOT / "config" / "multirotor.yaml").read_text()))
+    with pytest.raises(ValueError, match=r"^benchmark\.flight_logs\.vtol_hop: the log 'vtol' is on a 0\.4888 ms grid"):
+        checks.validate(config, benchmark=True)
+    checks.validate(config)  # all, levels, ...: no payload benchmark
+    checks.validate(deep_update(config, {"payload": {"time_step_s": 5e-4}}), benchmark=True)
+    checks.validate(deep_update(config, {"benchmark": {"payload": {"enabled": False}}}), benchmark=True)
 
 
 CTUN = DFFormat(0x85, "CTUN", 0, "Qff", "TimeUS,ThO,Alt")

@@ -280,6 +280,22 @@ def test_the_input_is_resampled_band_limited_so_its_acceleration_is_the_motions(
     assert np.max(np.abs(acc[inner] - expected[inner])) < 0.01 * peak
 
 
+def test_the_resampling_ratio_is_one_of_integers_up_to_1000_or_none():
+    """The polyphase filter's up / down from an input's step to the runs' (`payload_runs.resample_ratio`, the rule
+    the config checks apply to a measured scenario before the benchmark): the quadrotor log's 199.6 Hz x 10 on a
+    0.5 ms grid is 500 / 499 (1 / 1996 s over 1 / 2000 s), the vtol log's 0.4888 ms grid 611 / 625 on 0.5 ms and
+    611 / 1250 on 1 ms, whose denominator is over 1000: none, and `resampled` refuses it naming the key."""
+    from fractions import Fraction
+
+    assert payload_runs.resample_ratio(5e-3, 5e-4) == Fraction(10)
+    assert payload_runs.resample_ratio(1 / 1996, 5e-4) == Fraction(500, 499)
+    assert payload_runs.resample_ratio(0.4888e-3, 5e-4) == Fraction(611, 625)
+    assert payload_runs.resample_ratio(0.4888e-3, 1e-3) is None
+    t = np.arange(100) * 0.4888e-3
+    with pytest.raises(ValueError, match=r"^payload\.time_step_s: 0\.001 s is not a rational fraction"):
+        payload_runs.resampled(t, MountMotion(np.zeros((3, t.size)), np.zeros((3, t.size))), 1e-3)
+
+
 def test_the_inputs_give_the_same_numbers_on_one_and_two_workers():
     """payload.threads fans the inputs out over joblib workers (`uavdamp.parallel.run`): the dataset is identical
     on 1 and 2, sensor noise included (each run draws from its own seeded Generator)."""

@@ -69,7 +69,7 @@ def check_config(config: Config, benchmark: bool = False) -> dict:
     _check_source_bands(config)
     _check_mounts(config)
     _check_scaling(config)
-    flight_logs.check(config)
+    flight_logs.check(config, benchmark)
     _check_flights(config)
     _check_rotor_physics(config)
     grid = config.reference_table

@@ -5,7 +5,8 @@ what its log can trust (the log's span less `edge_s` at either end, read from th
 integrating anything) and as long as the run it feeds; a study case's log is integrated in a band that meets
 the study's tracker band, else the tracker would only see the band's edge. Each ConfigError names the key, the
 rule and the fix. Cases sampled at other rates need no check: `uavdamp.sources.excitation.on_common_grid` brings
-them onto one grid.
+them onto one grid. With the benchmark target, a measured scenario's grid must be one the benchmark on the payload
+can resample onto payload.time_step_s.
 """
 
 from __future__ import annotations
@@ -16,16 +17,21 @@ from pathlib import Path
 from uavdamp.settings import ConfigError, require
 from uavdamp.signals import inertial
 from uavdamp.sources.flight_log import FlightLogError, log_span
+from uavdamp.study.payload_runs import resample_ratio
 
 
-def check(config) -> None:
-    """ConfigError naming the first flight-log key that breaks a rule of the module docstring."""
+def check(config, benchmark: bool = False) -> None:
+    """ConfigError naming the first flight-log key that breaks a rule of the module docstring (with `benchmark`,
+    the benchmark target's too)."""
     _check_files(config)
     spans: dict[str, tuple[float, float, float]] = {}
     for where, name, window, duration, duration_key in _uses(config):
         if name not in spans:
             spans[name] = _span(config.flight_logs[name], f"flight_logs.{name}")
         _check_window(where, config.flight_logs[name].band_hz, spans[name], window, duration, duration_key)
+    if benchmark and config.benchmark.payload.enabled:
+        for scenario in config.benchmark.flight_logs:
+            _check_payload_grid(scenario, spans[scenario.flight_log][2], config)
     track = config.study.tracking
     for case_name, case in config.study.cases.items():
         if case.flight_log:
@@ -39,6 +45,20 @@ def check(config) -> None:
                 "set the log's band_hz across the tracker's band, or run the log in a study of its own band "
                 "(config/multirotor.yaml sets the tracker, the reference table and the solver for 20-47 Hz)",
             )
+
+
+def _check_payload_grid(scenario, step: float, config) -> None:
+    """The benchmark on the payload resamples a measured scenario from its log's grid (`step` s: the log's rate times
+    its upsample) onto payload.time_step_s by a polyphase filter, which needs a ratio of integers up to 1000."""
+    h, log = config.payload.time_step_s, scenario.flight_log
+    require(
+        resample_ratio(step, h) is not None,
+        f"benchmark.flight_logs.{scenario.name}",
+        f"the log {log!r} is on a {step * 1e3:.6g} ms grid (1 / (its rate x flight_logs.{log}.upsample)), whose "
+        f"ratio to payload.time_step_s ({h * 1e3:g} ms) is no ratio of integers up to 1000: the benchmark on the "
+        "payload cannot resample it (`uavdamp.study.payload_runs.resampled`). Set payload.time_step_s to a step "
+        "whose ratio is (config.yaml's 0.5 ms, for the shipped logs), or benchmark.payload.enabled: false",
+    )
 
 
 def _check_files(config) -> None:

@@ -326,6 +326,13 @@ def run_metrics(time: np.ndarray, s: Series, camera: CameraModel, start: float, 
     }
 
 
+def resample_ratio(dt: float, h: float) -> Fraction | None:
+    """up / down with `resampled`'s polyphase filter taking a step of dt s to one of h s: dt / h as a ratio of
+    integers up to 1000 (within 1e-9), None where there is none (the config checks refuse such an input first)."""
+    ratio = Fraction(dt / h).limit_denominator(1000)
+    return ratio if math.isclose(float(ratio), dt / h, rel_tol=1e-9) else None
+
+
 def resampled(time: np.ndarray, mount: MountMotion, h: float) -> tuple[np.ndarray, MountMotion]:
     """The motion (uniform `time` from 0, s) on the grid 0, h, 2h, ... by polyphase band-limited resampling
     (`scipy.signal.resample_poly`, the input's step over h a ratio of integers up to 1000; ValueError otherwise)
@@ -333,10 +340,11 @@ def resampled(time: np.ndarray, mount: MountMotion, h: float) -> tuple[np.ndarra
     either side: the acceleration of a line below 0.2 of the Nyquist frequency within 0.1 %, at 0.2 within 1 %
     (tests/test_payload.py); scipy's default filter (beta 5) left images whose second derivative was 86 % of a
     7 Hz line's sampled at 200 Hz."""
-    dt = float(time[1] - time[0])
-    ratio = Fraction(dt / h).limit_denominator(1000)
-    if not math.isclose(float(ratio), dt / h, rel_tol=1e-9):
-        raise ValueError(f"payload.time_step_s: {h} s is not a rational fraction of the input's step {dt} s")
+    ratio = resample_ratio(float(time[1] - time[0]), h)
+    if ratio is None:
+        raise ValueError(
+            f"payload.time_step_s: {h} s is not a rational fraction of the input's step {time[1] - time[0]} s"
+        )
     up, down = ratio.numerator, ratio.denominator
     taps = signal.firwin(2 * 40 * max(up, down) + 1, 0.9 / max(up, down), window=("kaiser", 12.0))
     series = np.vstack([mount.translation, mount.rotation])
