@@ -17,7 +17,7 @@ _W = "anfis."
 
 
 # here beside the section, not in `training`: the config checks count the training rows without importing the
-# estimators (scikit-learn: 0.6 s of every Snakemake start)
+# estimators (scikit-learn: about 0.5 s of every Snakemake start)
 def split(n: int, train_fraction: float, seed: int) -> np.ndarray:
     """Boolean mask of the training rows: a seeded random `train_fraction` of n (at least one of each)."""
     if n < 2:

@@ -48,8 +48,8 @@ def check(config, benchmark: bool = False) -> None:
 
 
 def _check_payload_grid(scenario, step: float, config) -> None:
-    """The benchmark on the payload resamples a measured scenario from its log's grid (`step` s: the log's rate times
-    its upsample) onto payload.time_step_s by a polyphase filter, which needs a ratio of integers up to 1000."""
+    """The benchmark on the payload resamples a measured scenario from its log's grid (`step` s: 1 / (its rate x
+    its upsample)) onto payload.time_step_s by a polyphase filter, which needs a ratio of integers up to 1000."""
     h, log = config.payload.time_step_s, scenario.flight_log
     require(
         resample_ratio(step, h) is not None,
