@@ -20,6 +20,7 @@ over the step's stroke increment, taken by Heun's rule (second order in the incr
 phi = A). The increment depends on e_{k+1} through the states: a fixed-point iteration (`ITERATIONS`) finds both.
 A stroke reversal inside a step is taken at the step's end. A damping schedule (`integrate_scheduled`: a semi-active
 law's C) is held over each step, the step map that of its C, built once per distinct C.
+The steps are compiled (`uavdamp.platform.wire_rope_kernel`).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from functools import cached_property
 import numpy as np
 import xarray as xr
 
+from uavdamp.platform import wire_rope_kernel as kernel
 from uavdamp.platform.bouc_wen import BoucWen
 from uavdamp.platform.six_axis import (
     AXES,
@@ -155,7 +157,7 @@ def integrate(
         raise ValueError("translation, rotation: one mount motion, (3, n) each")
     bank = _Bank(isolator, wire, h)
     fixed = [bank.find(c) for c in dampings]
-    w, z = _steps(wire, bank, u, len(fixed), lambda k, w_k: fixed)
+    w, z = _steps(wire, bank, u, len(fixed), lambda k, w_k: fixed, held=True)
     return w, z, u
 
 
@@ -225,12 +227,14 @@ class _Bank:
         return tuple(np.stack(a) for a in zip(*[self._part(k) for k in keys], strict=True))
 
 
-def _steps(wire: WireRope, bank: _Bank, u: np.ndarray, n_c: int, choose) -> tuple[np.ndarray, np.ndarray]:
+def _steps(wire: WireRope, bank: _Bank, u: np.ndarray, n_c: int, choose, held: bool = False):
     """States (B, n, 12) and z (B, n, n_h) of B = n_c runs side by side under the mount coordinates u (n, 6), or
     u[b] when u is (B, n, 6): over step k run b takes the step map of the bank's key choose(k, w_k)[b], w_k (B, 12)
-    the states at sample k (choose returns a list of `_Bank.find` keys; it is also called at the last sample)."""
+    the states at sample k (choose returns a list of `_Bank.find` keys; it is also called at the last sample).
+    held: choose's keys are the same at every sample (asked once; the whole run in one compiled call). The steps
+    are `wire_rope_kernel.advance`'s."""
     h_rows, h = bank.h_rows, bank.h
-    n_h, u = h_rows.shape[0], np.broadcast_to(u, (n_c, *u.shape[-2:]))
+    n_h, u = h_rows.shape[0], np.ascontiguousarray(np.broadcast_to(u, (n_c, *u.shape[-2:])))
     n = u.shape[1]
     slopes = np.diff(u, axis=1) / h
     mount_strokes = u @ h_rows.T  # (n_c, n, n_h): H u
@@ -238,24 +242,20 @@ def _steps(wire: WireRope, bank: _Bank, u: np.ndarray, n_c: int, choose) -> tupl
     w[:, 0, :6], w[:, 0, 6:] = u[:, 0], slopes[:, 0]
     z = np.zeros((n_c, n, n_h))
     s_k, de = np.zeros((n_c, n_h)), np.zeros((n_c, n_h))  # the strokes at the step's start; e's increment
+    beta, gamma = wire.beta_gamma
+    fixed = (h_rows, u, slopes, mount_strokes, w, z, s_k, de, np.array([beta, gamma, wire.exponent]), ITERATIONS)
+    fixed += (kernel.workspace(n_h),)
+    kernel.compile_now()
+    if held:
+        kernel.advance(*bank.take(choose(0, w[:, 0])), *fixed, 0, n - 1)
+        return w, z
     index = None
     for k in range(n - 1):
         found = choose(k, w[:, k])
         if found != index:
             index = found
-            maps, ge1, p = bank.take(index)
-        inputs = np.concatenate([w[:, k], s_k - z[:, k], u[:, k], slopes[:, k]], axis=1)
-        base = np.einsum("cij,cj->ci", maps, inputs)
-        d0 = base[:, :6] @ h_rows.T - mount_strokes[:, k + 1] - s_k
-        for _ in range(ITERATIONS):
-            ds = d0 + np.einsum("cij,cj->ci", p, de)
-            direction = np.sign(ds)
-            slope0 = wire.phi(z[:, k], direction)
-            dz = 0.5 * ds * (slope0 + wire.phi(z[:, k] + ds * slope0, direction))
-            de = ds - dz
-        w[:, k + 1] = base + np.einsum("cij,cj->ci", ge1, de)
-        z[:, k + 1] = z[:, k] + dz
-        s_k = s_k + ds
+            maps = bank.take(index)
+        kernel.advance(*maps, *fixed, k, k + 1)
     if n > 1:
         choose(n - 1, w[:, n - 1])  # a schedule's decision at the last sample (applied over no step)
     return w, z
