@@ -7,15 +7,20 @@ benchmark  `snakemake -jN benchmark` after the study in the same clone (target: 
 tests      the README's test command, `pytest`, with CI=true (target: 6 min)
 
 Each figure is the median wall time of --repeats runs (default 1: the test command takes minutes), printed with the
-1-minute load average before and after each run and the number of cores, so that a figure measured on a busy
-machine says so. The clone's own `src/` is imported (PYTHONPATH), with this interpreter and its installed
-dependencies: commit first, HEAD is what is timed.
+CPU time of the run (user + system, every process it started), the 1-minute load average before and after it and
+the number of cores, so that a figure measured on a busy machine says so. The machine's own speed drifts too: on
+2026-12-07 the study took 2 min 2 s (224 s of CPU) at 16:17 and 2 min 33 s (292 s of CPU, for the same jobs less
+the 3 s a change between saved) at 17:21. So each run is bracketed by a yardstick, a fixed one-core workload of small
+numpy products and Python arithmetic (as the jobs' per-step code) in a fresh interpreter, and the figure is also
+printed in yardsticks (wall / the yardstick's mean wall), which compares across that drift. The clone's own `src/` is
+imported (PYTHONPATH), with this interpreter and its installed dependencies: commit first, HEAD is what is timed.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -31,16 +36,41 @@ STEPS = {
 }
 
 
-def timed(command: list[str], cwd: Path) -> tuple[float, float, float]:
-    """(wall s, load before, load after) of one run; a failed run stops the benchmark naming it."""
+# the yardstick: about 1.5 s on one core of the 2026-12-07 machine (numpy's small products, then Python's arithmetic)
+YARDSTICK = """
+import numpy as np
+a, x, s = np.linspace(0.0, 1.0, 12 * 24).reshape(12, 24), np.ones(24), 0.0
+for k in range(400_000):
+    s += float((a @ x)[k % 12])
+s += sum(i * i % 7 for i in range(4_000_000))
+"""
+
+
+def children_cpu() -> float:
+    """User + system CPU s of every finished child process so far (and theirs)."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def yardstick() -> float:
+    """Wall s of one run of YARDSTICK in a fresh interpreter, its start-up included."""
+    start = time.perf_counter()
+    subprocess.run([sys.executable, "-c", YARDSTICK], check=True)
+    return time.perf_counter() - start
+
+
+def timed(command: list[str], cwd: Path) -> dict[str, float]:
+    """Wall s, CPU s, load before and after of one run, and the yardstick's mean wall s around it; a failed run
+    stops the benchmark naming it."""
     env = dict(os.environ, PYTHONPATH=str(cwd / "src"), CI="true")
-    before = os.getloadavg()[0]
+    first, before, cpu = yardstick(), os.getloadavg()[0], children_cpu()
     start = time.perf_counter()
     result = subprocess.run(command, cwd=cwd, env=env, capture_output=True, text=True)
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, children_cpu() - cpu
     if result.returncode != 0:
         sys.exit(f"{' '.join(command[2:])} failed in {cwd}:\n{(result.stdout + result.stderr)[-3000:]}")
-    return wall, before, os.getloadavg()[0]
+    after = os.getloadavg()[0]
+    return {"wall": wall, "cpu": cpu, "before": before, "after": after, "yardstick": (first + yardstick()) / 2}
 
 
 def clone(into: Path) -> Path:
@@ -58,18 +88,24 @@ def main() -> None:
     chosen = args.only or ["study", "benchmark"]
     head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout
     print(f"HEAD {head.strip()}, {os.cpu_count()} cores on the machine, -j{args.cores}")
-    print(f"{'figure':<10} {'run':>4} {'wall s':>8} {'load before':>12} {'load after':>11}")
+    header = ("figure", "run", "wall s", "cpu s", "yardstick s", "yardsticks", "load before", "load after")
+    print("{:<10} {:>6} {:>8} {:>8} {:>12} {:>11} {:>12} {:>11}".format(*header))
     for name in chosen:
-        walls = []
+        walls, units = [], []
         for k in range(args.repeats):
             with tempfile.TemporaryDirectory() as tmp:
                 work = clone(Path(tmp) / "uavdamp")
                 if name == "benchmark":  # after the study, as the README runs it
                     timed(STEPS["study"](args.cores), work)
-                wall, before, after = timed(STEPS[name](args.cores), work)
-            walls.append(wall)
-            print(f"{name:<10} {k + 1:>4} {wall:>8.1f} {before:>12.2f} {after:>11.2f}")
-        print(f"{name:<10} {'median':>4} {statistics.median(walls):>8.1f}")
+                run = timed(STEPS[name](args.cores), work)
+            walls.append(run["wall"])
+            units.append(run["wall"] / run["yardstick"])
+            print(
+                f"{name:<10} {k + 1:>6} {run['wall']:>8.1f} {run['cpu']:>8.1f} {run['yardstick']:>12.2f} "
+                f"{units[-1]:>11.1f} {run['before']:>12.2f} {run['after']:>11.2f}"
+            )
+        median = f"{statistics.median(walls):>8.1f} {'':>8} {'':>12} {statistics.median(units):>11.1f}"
+        print(f"{name:<10} {'median':>6} {median}")
 
 
 if __name__ == "__main__":
