@@ -13,6 +13,7 @@ from test_payload import _section, _time
 from uavdamp.contract import MountMotion
 from uavdamp.damping.laws import Skyhook
 from uavdamp.platform.six_axis import strokes_matrix
+from uavdamp.platform.six_axis_run import run, run_batch
 from uavdamp.settings import ConfigError
 from uavdamp.study import payload_laws as laws
 from uavdamp.study import payload_runs as runs
@@ -139,3 +140,53 @@ def test_skyhooks_rows_are_its_decision_per_damper():
     expected = [law.decide(a, r) for a, r in zip(v_abs, v_rel, strict=True)]
     np.testing.assert_array_equal(law.decide_rows(v_abs, v_rel), expected)
     assert 50 < np.sum(np.asarray(expected) == 30.0) < 150
+
+
+def test_skyhook_runs_side_by_side_follow_karnopps_rule_and_their_own_held_c():
+    """Three c_on (3, 30, 100 N s/m, c_off 1) side by side (`skyhook_motions`, one decision call a sample for all):
+    each run's recorded C follows Karnopp's rule on that run's own element velocities (where v_abs . v_rel is clear
+    of rounding), the runs differ, and each run's motion is the isolator's run held at its recorded C step by step
+    (`six_axis_run.run` with that C as an array: the constant stretches' step maps, propagated), to rounding."""
+    t = _time(0.5)
+    u = np.zeros((6, t.size))
+    u[1], u[2], u[4] = 1e-3 * np.sin(2 * np.pi * 7 * t), 8e-4 * np.sin(2 * np.pi * 9 * t), 2e-3 * np.sin(2 * np.pi * t)
+    moved = MountMotion(u[:3], u[3:])
+    isolator = runs.six_axis_isolator(SECTION, 1.0)
+    h, rows, n_el = float(t[1] - t[0]), strokes_matrix(isolator), isolator.n_elements
+    rates = np.vstack([np.diff(u, axis=1).T, np.diff(u, axis=1).T[-1:]]) / h
+    decide = laws.skyhook_batch(isolator, t, rates, [Skyhook(c, 1.0, h) for c in (3.0, 30.0, 100.0)])
+    found = run_batch(isolator, t, moved.translation, moved.rotation, decide, 3)
+    shares = []
+    for ds, c_on in zip(found, (3.0, 30.0, 100.0), strict=True):
+        applied = ds.damping.values  # (n_semi, n)
+        v_rel = ds.element_stroke_rate.values.transpose(2, 0, 1)  # (n, n_el, 3)
+        v_abs = v_rel + (rates @ rows.T).reshape(-1, n_el, 3)
+        power = np.sum(v_abs * v_rel, axis=2).T  # (n_el, n): every element semi-active
+        clear = np.abs(power) > 1e-9 * np.abs(power).max()
+        np.testing.assert_array_equal(applied[clear], np.where(power > 0, c_on, 1.0)[clear])
+        shares.append(np.mean(applied[:, :-1] == c_on))
+        held = run(isolator, t, moved.translation, moved.rotation, applied)
+        for name in ("payload_translation", "payload_rotation", "payload_velocity"):
+            scale = np.abs(held[name].values).max()
+            np.testing.assert_allclose(ds[name].values, held[name].values, rtol=0, atol=1e-9 * scale)
+    assert all(0.1 < s < 0.9 for s in shares), shares  # measured 0.88, 0.50, 0.33
+    assert not np.array_equal(found[0].payload_rotation.values, found[2].payload_rotation.values)
+
+
+@pytest.mark.parametrize("lag_s", [0.0, 2e-2])
+def test_a_batch_decides_as_each_of_its_laws_alone(lag_s):
+    """`skyhook_batch` over laws of different c_on and c_off gives, sample after sample, each law's own decision
+    (`skyhook_schedule` of that law alone, itself checked against Karnopp's rule and the lag's closed form above)
+    on random element velocities, exactly."""
+    isolator = runs.six_axis_isolator(SECTION, 1.0)
+    rng = np.random.default_rng(5)
+    t = np.arange(200) * 1e-3
+    rates = rng.normal(0.0, 0.02, (t.size, 6))
+    chosen = [Skyhook(3.0, 1.0, 1e-3), Skyhook(30.0, 0.5, 1e-3), Skyhook(100.0, 2.0, 1e-3)]
+    batch = laws.skyhook_batch(isolator, t, rates, chosen, lag_s)
+    alone = [laws.skyhook_schedule(isolator, t, rates, law, lag_s) for law in chosen]
+    for t_k in t:
+        outputs = rng.normal(0.0, 0.02, (3, 6 + 6 * isolator.n_elements))
+        got = batch(float(t_k), outputs)
+        for b, decide in enumerate(alone):
+            np.testing.assert_array_equal(got[b], decide(float(t_k), outputs[b]))

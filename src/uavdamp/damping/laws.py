@@ -116,5 +116,11 @@ class Skyhook:
         """`decide` for each row of (k, d) velocities (k dampers, each on its own velocities): (k,) N s m-1."""
         return np.where(np.einsum("ij,ij->i", v_abs, v_rel) > 0.0, self.c_on, self.c_off)
 
+    @staticmethod
+    def decide_batch(laws: list[Skyhook], v_abs: np.ndarray, v_rel: np.ndarray) -> np.ndarray:
+        """`decide_rows` of laws[b] on the rows of (B, k, d) velocities b, all in one call: (B, k) N s m-1."""
+        c_on, c_off = np.array([[law.c_on] for law in laws]), np.array([[law.c_off] for law in laws])
+        return np.where(np.einsum("bij,bij->bi", v_abs, v_rel) > 0.0, c_on, c_off)
+
     def __call__(self, observation: Observation) -> float:
         return self.decide(np.asarray(observation.base_velocity), np.asarray(observation.stroke_rate))

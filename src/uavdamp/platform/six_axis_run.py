@@ -59,46 +59,64 @@ def run(
     or (n_semi, n) of values acting from each sample on, or a callable (t_k, outputs_k) -> (n_semi,) called at
     every sample with the outputs (`uavdamp.platform.six_axis.output_names`) there. A scheduled C replaces the
     element's damping along its damper axes (`uavdamp.platform.six_axis.Element`)."""
+    if callable(schedule):
+        return run_batch(isolator, time, translation, rotation, lambda t_k, y: [schedule(t_k, y[0])], 1)[0]
     t, h, u = mount_grid(time, translation, rotation)
     n = t.size
     slopes = np.diff(u, axis=0) / h  # (n - 1, 6), the mount rate on each step
     rates = np.vstack([slopes, slopes[-1:]])  # at each sample: the step starting there (the last: ending there)
     own = schedule is None  # the semi-active elements keep their own damping (reported as NaN)
     plan = np.zeros((n, len(isolator.semi_active))) if own else schedule_array(isolator, schedule, n)
-    cache: dict[tuple, tuple] = {}
-
-    def model(c: np.ndarray):
-        key = tuple(c.tolist())
-        if key not in cache:
-            plant = state_space(isolator, None if own else c)
-            step = discretise(plant, h)
-            cache[key] = (plant, step, np.hstack([step.phi, step.gamma_u, step.gamma_v]))  # (12, 24) on (z, u, u')
-        return cache[key]
-
     z = np.zeros((n, 12))
     z[0, :6], z[0, 6:] = u[0], rates[0]
-    applied = np.zeros((n, len(isolator.semi_active)))
-    if plan is not None:  # constant runs of the schedule: one step map and one lifted propagation each
-        applied[:] = plan
-        change = np.flatnonzero(np.any(np.diff(plan, axis=0) != 0, axis=1)) + 1
-        bounds = [0, *change.tolist(), n - 1]
-        for start, stop in zip(bounds[:-1], bounds[1:], strict=True):
-            if stop > start:
-                step = model(plan[start])[1]
-                lifted = lift(step.phi) if stop - start > 64 else None
-                z[start : stop + 1] = propagate(step, z[start], u[start:stop], slopes[start:stop], lifted)
-    else:
-        outputs = state_space(isolator)  # the outputs do not depend on the damping
-        driven = u @ outputs.du.T + rates @ outputs.dv.T  # the inputs' share of the outputs, every sample at once
-        held = np.hstack([u[:-1], slopes])  # each step's (u, u')
-        for k in range(n):
-            c = np.asarray(schedule(float(t[k]), outputs.c @ z[k] + driven[k]), dtype=float).ravel()
-            applied[k] = c
+    steps: dict[tuple, object] = {}  # the step map of each C the plan takes, built once
+    # constant stretches of the plan: one step map and one lifted propagation each
+    change = np.flatnonzero(np.any(np.diff(plan, axis=0) != 0, axis=1)) + 1
+    bounds = [0, *change.tolist(), n - 1]
+    for start, stop in zip(bounds[:-1], bounds[1:], strict=True):
+        if stop > start:
+            key = tuple(plan[start].tolist())
+            if key not in steps:
+                steps[key] = discretise(state_space(isolator, None if own else plan[start]), h)
+            step = steps[key]
+            lifted = lift(step.phi) if stop - start > 64 else None
+            z[start : stop + 1] = propagate(step, z[start], u[start:stop], slopes[start:stop], lifted)
+    return _dataset(isolator, t, u, rates, z, np.full_like(plan, np.nan) if own else plan)
+
+
+def run_batch(isolator: SixAxisIsolator, time, translation, rotation, decide: Callable, n_runs: int) -> list:
+    """`run`'s datasets of n_runs runs under one mount motion, each with its semi-active elements' C decided at every
+    sample by one call for them all: decide(t_k, outputs (n_runs, n_out)) -> n_runs rows of (n_semi,) N s m-1
+    (outputs as `run`'s callable sees them). Each run is stepped as `run` steps it alone."""
+    t, h, u = mount_grid(time, translation, rotation)
+    n, n_semi = t.size, len(isolator.semi_active)
+    slopes = np.diff(u, axis=0) / h  # (n - 1, 6), the mount rate on each step
+    rates = np.vstack([slopes, slopes[-1:]])  # at each sample: the step starting there (the last: ending there)
+    outputs = state_space(isolator)  # the outputs do not depend on the damping
+    driven = u @ outputs.du.T + rates @ outputs.dv.T  # the inputs' share of the outputs, every sample at once
+    held = np.hstack([u[:-1], slopes])  # each step's (u, u')
+    maps: dict[tuple, np.ndarray] = {}  # (12, 24) on (z, u, u') per C
+    z = np.zeros((n_runs, n, 12))
+    z[:, 0, :6], z[:, 0, 6:] = u[0], rates[0]
+    applied = np.zeros((n_runs, n, n_semi))
+    for k in range(n):
+        y = np.stack([outputs.c @ z[b, k] + driven[k] for b in range(n_runs)])
+        for b, c in enumerate(decide(float(t[k]), y)):
+            applied[b, k] = c = np.asarray(c, dtype=float).ravel()
             if k < n - 1:
-                z[k + 1] = model(c)[2] @ np.concatenate([z[k], held[k]])
+                key = tuple(c.tolist())
+                if key not in maps:
+                    step = discretise(state_space(isolator, c), h)
+                    maps[key] = np.hstack([step.phi, step.gamma_u, step.gamma_v])
+                z[b, k + 1] = maps[key] @ np.concatenate([z[b, k], held[k]])
+    return [_dataset(isolator, t, u, rates, z[b], applied[b]) for b in range(n_runs)]
+
+
+def _dataset(isolator: SixAxisIsolator, t, u, rates, z, applied) -> xr.Dataset:
+    """`run_dataset` of a run's states z (n, 12) under the mount coordinates u and rates (n, 6)."""
     plant = state_space(isolator)  # the outputs do not depend on the damping
     y = z @ plant.c.T + u @ plant.du.T + rates @ plant.dv.T
-    return run_dataset(isolator, t, u, y, np.full_like(applied, np.nan) if own else applied, z[:, 6:])
+    return run_dataset(isolator, t, u, y, applied, z[:, 6:])
 
 
 def run_dataset(isolator: SixAxisIsolator, t, u, y, applied, body_rates) -> xr.Dataset:

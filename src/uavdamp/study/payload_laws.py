@@ -26,7 +26,7 @@ from uavdamp.contract import MountMotion
 from uavdamp.damping.dampers import V_MAX
 from uavdamp.damping.laws import Skyhook
 from uavdamp.platform.six_axis import DOFS, SixAxisIsolator, strokes_matrix
-from uavdamp.platform.six_axis_run import run
+from uavdamp.platform.six_axis_run import run_batch
 from uavdamp.study import payload_mr
 from uavdamp.study.payload_runs import (
     METRICS,
@@ -41,6 +41,29 @@ from uavdamp.study.payload_runs import (
 from uavdamp.study.payload_schedule import replanned, schedule, scheduled_run
 
 
+def _at_mount(isolator: SixAxisIsolator, mount_rates: np.ndarray) -> np.ndarray:
+    """(n, n_semi, 3): the mount's velocity at each semi-active element, every sample (a 6-DOF motion's translation
+    at the elements: `strokes_matrix`), m s-1."""
+    semi = np.array(isolator.semi_active, dtype=int)
+    return (np.asarray(mount_rates) @ strokes_matrix(isolator).T).reshape(-1, isolator.n_elements, 3)[:, semi]
+
+
+def _lag(lag_s: float, h: float) -> Callable:
+    """(demand, state dict) -> the C a damper of first-order lag lag_s (s) holds over a step h (s): see
+    `skyhook_schedule`; the state keeps C at the step's start."""
+    decay = math.exp(-h / lag_s) if lag_s > 0 else 0.0
+    mean_share = (1.0 - decay) * lag_s / h if lag_s > 0 else 0.0  # of the start's distance to the demand
+
+    def held(demand: np.ndarray, state: dict) -> np.ndarray:
+        if lag_s == 0:
+            return demand
+        start = state.get("c", demand)  # C(t_k); the first sample: settled on its demand
+        state["c"] = demand + (start - demand) * decay
+        return demand + (start - demand) * mean_share
+
+    return held
+
+
 def skyhook_schedule(
     isolator: SixAxisIsolator, time: np.ndarray, mount_rates: np.ndarray, law: Skyhook, lag_s: float = 0.0
 ) -> Callable:
@@ -52,22 +75,29 @@ def skyhook_schedule(
     exp(-h / lag_s), exactly; the run holds each step's mean, d_k + (C(t_k) - d_k) (1 - e) lag_s / h (choice: the
     step's damping impulse), which is d_k for lag_s 0. The damper starts settled on the first demand."""
     n_el, t0, h = isolator.n_elements, float(time[0]), float(time[1] - time[0])
-    semi = np.array(isolator.semi_active, dtype=int)
-    # (n, n_semi, 3): the mount's velocity at each semi-active element, every sample (a 6-DOF motion's translation
-    # at the elements: `strokes_matrix`)
-    at_mount = (np.asarray(mount_rates) @ strokes_matrix(isolator).T).reshape(-1, n_el, 3)[:, semi]
-    decay = math.exp(-h / lag_s) if lag_s > 0 else 0.0
-    mean_share = (1.0 - decay) * lag_s / h if lag_s > 0 else 0.0  # of the start's distance to the demand
-    state: dict[str, np.ndarray] = {}
+    semi, at_mount = np.array(isolator.semi_active, dtype=int), _at_mount(isolator, mount_rates)
+    held, state = _lag(lag_s, h), {}
 
     def decide(t_k: float, outputs: np.ndarray) -> np.ndarray:
         v_rel = outputs[6 + 3 * n_el :].reshape(n_el, 3)[semi]
-        demand = law.decide_rows(v_rel + at_mount[int(round((t_k - t0) / h))], v_rel)
-        if lag_s == 0:
-            return demand
-        start = state.get("c", demand)  # C(t_k); the first sample: settled on its demand
-        state["c"] = demand + (start - demand) * decay
-        return demand + (start - demand) * mean_share
+        return held(law.decide_rows(v_rel + at_mount[int(round((t_k - t0) / h))], v_rel), state)
+
+    return decide
+
+
+def skyhook_batch(
+    isolator: SixAxisIsolator, time: np.ndarray, mount_rates: np.ndarray, laws: list[Skyhook], lag_s: float = 0.0
+) -> Callable:
+    """`skyhook_schedule` of several laws in one call (`six_axis_run.run_batch`'s decision): (t_k, outputs (B,
+    n_out)) -> C (B, n_semi) N s m-1, run b under laws[b] (`Skyhook.decide_batch`), each through its own lagged
+    damper."""
+    n_el, t0, h = isolator.n_elements, float(time[0]), float(time[1] - time[0])
+    semi, at_mount = np.array(isolator.semi_active, dtype=int), _at_mount(isolator, mount_rates)
+    held, state = _lag(lag_s, h), {}
+
+    def decide(t_k: float, outputs: np.ndarray) -> np.ndarray:
+        v_rel = outputs[:, 6 + 3 * n_el :].reshape(len(laws), n_el, 3)[:, semi]
+        return held(Skyhook.decide_batch(laws, v_rel + at_mount[int(round((t_k - t0) / h))], v_rel), state)
 
     return decide
 
@@ -85,15 +115,23 @@ def _on_share(applied: np.ndarray, c_on: float, c_off: float) -> float:
     return float(np.mean(applied[:-1] > 0.5 * (c_on + c_off))) if c_on != c_off else 1.0
 
 
+def skyhook_motions(
+    isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_ons: list[float], c_off: float, lag_s=0.0
+) -> list[tuple[BodyMotion, float]]:
+    """Per c_on: (the payload's motion under on-off skyhook between c_on and c_off N s m-1 through a damper of lag
+    lag_s s, the share of element-steps whose applied C is nearer c_on than c_off); the runs side by side
+    (`six_axis_run.run_batch`, `skyhook_batch`)."""
+    h = float(time[1] - time[0])
+    decide = skyhook_batch(isolator, time, _mount_rates(time, mount), [Skyhook(c, c_off, h) for c in c_ons], lag_s)
+    runs = run_batch(isolator, time, mount.translation, mount.rotation, decide, len(c_ons))
+    return [(body_motion(ds, h), _on_share(ds.damping.values.T, c, c_off)) for ds, c in zip(runs, c_ons, strict=True)]
+
+
 def skyhook_motion(
     isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_on: float, c_off: float, lag_s: float = 0.0
 ) -> tuple[BodyMotion, float]:
-    """(the payload's motion under on-off skyhook between c_on and c_off N s m-1 through a damper of lag lag_s s
-    (`skyhook_schedule`), the share of element-steps whose applied C is nearer c_on than c_off)."""
-    law = Skyhook(c_on, c_off, float(time[1] - time[0]))
-    decide = skyhook_schedule(isolator, time, _mount_rates(time, mount), law, lag_s)
-    ds = run(isolator, time, mount.translation, mount.rotation, decide)
-    return body_motion(ds, float(time[1] - time[0])), _on_share(ds.damping.values.T, c_on, c_off)
+    """`skyhook_motions` of one c_on."""
+    return skyhook_motions(isolator, time, mount, [c_on], c_off, lag_s)[0]
 
 
 def body_motion(ds, h: float) -> BodyMotion:
@@ -131,7 +169,7 @@ def _mount_laws(section, mount: str, t: np.ndarray, moved: MountMotion, planned:
     c_off, lag, h, c_ons = section.c_off, section.skyhook_lag, float(t[1] - t[0]), law_c_on(section)
     found = isolator(section, mount, c_off)
     if mount == "six_axis":
-        pairs = [skyhook_motion(found, t, moved, c_on, c_off, lag) for c_on in c_ons]
+        pairs = skyhook_motions(found, t, moved, c_ons, c_off, lag) if c_ons else []
         bodies = [b for b, _ in pairs] + [body_motion(scheduled_run(found, t, moved, c), h) for c in planned]
         return bodies, [on for _, on in pairs] + [math.nan] * len(planned)
     rates = _mount_rates(t, moved)
