@@ -10,10 +10,13 @@ Each figure is the median wall time of --repeats runs (default 1: the test comma
 CPU time of the run (user + system, every process it started), the 1-minute load average before and after it and
 the number of cores, so that a figure measured on a busy machine says so. The machine's own speed drifts too: on
 2026-12-07 the study took 2 min 2 s (224 s of CPU) at 16:17 and 2 min 33 s (292 s of CPU, for the same jobs less
-the 3 s a change between saved) at 17:21. So each run is bracketed by a yardstick, a fixed one-core workload of small
-numpy products and Python arithmetic (as the jobs' per-step code) in a fresh interpreter, and the figure is also
-printed in yardsticks (wall / the yardstick's mean wall), which compares across that drift. The clone's own `src/` is
-imported (PYTHONPATH), with this interpreter and its installed dependencies: commit first, HEAD is what is timed.
+the 3 s a change between saved) at 17:21, both on warm caches. So each run is bracketed by a yardstick, a fixed
+one-core workload of small numpy products and Python arithmetic (as the jobs' per-step code) in a fresh interpreter,
+and the figure is also printed in yardsticks (wall / the yardstick's mean wall): a reading of the machine's
+single-core speed beside the figure (it varied by 20 % between three calls within a minute on 2026-12-07, so it
+shows a large drift, not a small one). The clone's own `src/` is imported (PYTHONPATH), with this interpreter and
+its installed dependencies: commit first, HEAD is what is timed; its numba kernels compile in the run, as in any
+fresh clone.
 """
 
 from __future__ import annotations
