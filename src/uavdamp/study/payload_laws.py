@@ -2,14 +2,14 @@
 `payload_runs.SIX_AXIS_MOUNTS` the config names): the payload comparison's C(t) beside its constant C.
 
 Karnopp's on-off skyhook (`uavdamp.damping.laws.Skyhook`, the law the study runs on the paper's platform) decides
-each semi-active element's damping from that element's own velocities: v_rel its stroke rate (payload minus
-mount at the element, 3 axes) and v_abs = v_rel + the mount's velocity there, c_on when the damper's force
--C v_rel opposes v_abs (v_abs . v_rel > 0), else c_off; decided at every sample of the run's grid, held over the
-step (`uavdamp.platform.six_axis_run.run`; on the wire rope `uavdamp.platform.wire_rope.integrate_scheduled`:
-exact for the held C), through a damper that follows the demand at once
-(``payload.skyhook_lag_s`` 0, the default) or with a first-order lag. The body's motion then feeds the gimbal as in the
-constant runs (`uavdamp.study.payload_runs`): coordinates and rates from the run's states, accelerations their
-central differences. The scheduled law (`uavdamp.study.payload_schedule`) reads the mount alone: one plan of C
+each semi-active element's damping from that element's own velocities: v_rel its stroke rate (payload minus mount at
+the element, 3 axes) and v_abs = v_rel + the mount's velocity there, c_on when the damper's force -C v_rel opposes
+v_abs (v_abs . v_rel > 0), else c_off; decided at every sample of the run's grid, held over the step
+(`uavdamp.platform.six_axis_run.run_batch`, every c_on of an input side by side; on the wire rope
+`uavdamp.platform.wire_rope.integrate_scheduled`: exact for the held C), through a damper that follows the demand at
+once (``payload.skyhook_lag_s`` 0, the default) or with a first-order lag. The body's motion then feeds the gimbal
+as in the constant runs (`uavdamp.study.payload_runs`): coordinates and rates from the run's states, accelerations
+their central differences. The scheduled law (`uavdamp.study.payload_schedule`) reads the mount alone: one plan of C
 per input, run on each mount (on the wire rope the payload table is its small-amplitude limit's, the rubber-ball
 isolator's: an assumption of the law, not of the run).
 """
@@ -116,7 +116,12 @@ def _on_share(applied: np.ndarray, c_on: float, c_off: float) -> float:
 
 
 def skyhook_motions(
-    isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_ons: list[float], c_off: float, lag_s=0.0
+    isolator: SixAxisIsolator,
+    time: np.ndarray,
+    mount: MountMotion,
+    c_ons: list[float],
+    c_off: float,
+    lag_s: float = 0.0,
 ) -> list[tuple[BodyMotion, float]]:
     """Per c_on: (the payload's motion under on-off skyhook between c_on and c_off N s m-1 through a damper of lag
     lag_s s, the share of element-steps whose applied C is nearer c_on than c_off); the runs side by side
