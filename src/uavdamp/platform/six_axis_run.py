@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from uavdamp.platform.six_axis import AXES, SixAxisIsolator, output_names, state_space
-from uavdamp.platform.statespace import discretise, lift, propagate
+from uavdamp.platform.statespace import Discrete, discretise, lift, propagate
 
 
 def mount_grid(time, translation, rotation) -> tuple[np.ndarray, float, np.ndarray]:
@@ -69,7 +69,7 @@ def run(
     plan = np.zeros((n, len(isolator.semi_active))) if own else schedule_array(isolator, schedule, n)
     z = np.zeros((n, 12))
     z[0, :6], z[0, 6:] = u[0], rates[0]
-    steps: dict[tuple, object] = {}  # the step map of each C the plan takes, built once
+    steps: dict[tuple, Discrete] = {}  # the step map of each C the plan takes, built once
     # constant stretches of the plan: one step map and one lifted propagation each
     change = np.flatnonzero(np.any(np.diff(plan, axis=0) != 0, axis=1)) + 1
     bounds = [0, *change.tolist(), n - 1]
