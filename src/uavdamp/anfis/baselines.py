@@ -16,7 +16,6 @@ Settings are choices, not tuned; ``make`` builds them, seeded where they are ran
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 from sklearn.base import BaseEstimator, RegressorMixin
 from sklearn.ensemble import HistGradientBoostingRegressor
 from sklearn.gaussian_process import GaussianProcessRegressor
@@ -48,6 +47,8 @@ class LinearInterpolation(RegressorMixin, BaseEstimator):
     """
 
     def fit(self, X, y):
+        from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
+
         X, y = validate_data(self, X, y, y_numeric=True, dtype=np.float64)
         self.lo_ = X.min(axis=0)
         span = X.max(axis=0) - self.lo_

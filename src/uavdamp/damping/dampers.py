@@ -40,7 +40,6 @@ from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import brentq
 
 from uavdamp.damping import spencer_kernel
 
@@ -148,6 +147,8 @@ class SpencerParams:
 @lru_cache(maxsize=16)
 def _platform_scales(c_min: float, c_max: float, velocity: float, frequency: float, v_max: float):
     """(force_scale, stroke_scale) of `SpencerParams.for_platform` (cached: about 40 loop simulations)."""
+    from scipy.optimize import brentq
+
     if not 0 < c_min < c_max:
         raise ValueError(f"need 0 < c_min < c_max (an MR damper's off-state damping is > 0), got {c_min}, {c_max}")
     base, omega = SpencerParams.published(), 2 * math.pi * frequency

@@ -23,7 +23,6 @@ from dataclasses import replace
 import exudyn as exu
 import numpy as np
 import xarray as xr
-from scipy.optimize import linear_sum_assignment
 
 from uavdamp.helicopter import model as H
 from uavdamp.helicopter.params import Helicopter
@@ -202,6 +201,8 @@ def track(
     (steps, modes): column index at each step of each mode, mac (steps, modes): the MAC of each match with the
     neighbouring step towards `start`, 1 at `start`).
     """
+    from scipy.optimize import linear_sum_assignment
+
     n_steps, n = len(shapes), shapes[start].shape[1]
     order, score = np.zeros((n_steps, n), dtype=int), np.ones((n_steps, n))
     order[start] = np.arange(n)

@@ -17,7 +17,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 
 @dataclass(frozen=True)
@@ -73,6 +72,8 @@ def hysteresis(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(F N, z m) on `time` (s) for the stroke samples (m) there, from z(time[0]) = z0. The stroke rate is a
     callable of t (m s-1) when given (exact), otherwise the slope of the stroke's linear interpolation."""
+    from scipy.integrate import solve_ivp
+
     t = np.asarray(time, dtype=float)
     x = np.asarray(stroke, dtype=float)
     if t.ndim != 1 or t.shape != x.shape or t.size < 2 or np.any(np.diff(t) <= 0):

@@ -32,7 +32,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import signal
 
 from uavdamp.contract import STANDARD_GRAVITY
 from uavdamp.platform.imu import ComplementaryFilter, ImuParams, lowpass
@@ -195,12 +194,16 @@ class AxisGains:
 
 def tf_response(num, den, freq_hz: np.ndarray, period: float) -> np.ndarray:
     """Frequency response of a discrete transfer function (coefficients in z^-1) at freq_hz (scipy freqz)."""
+    from scipy import signal
+
     _, h = signal.freqz(num, den, worN=np.atleast_1d(np.asarray(freq_hz, dtype=float)), fs=1.0 / period)
     return h
 
 
 def plant_tf(model: AxisModel, output: str, period: float) -> tuple[np.ndarray, np.ndarray]:
     """Zero-order-hold transfer function (num, den in z^-1) from the torque to an output (scipy cont2discrete)."""
+    from scipy import signal
+
     row = OUTPUTS.index(output)
     ad, bd, cd, dd, _ = signal.cont2discrete(
         (model.a, model.b[:, :1], model.c[row : row + 1], np.zeros((1, 1))), period, method="zoh"

@@ -22,9 +22,10 @@ motion; `design_report` gives its size per radian of base rotation to compare wi
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import xarray as xr
-from scipy import optimize, signal
 
 from uavdamp.platform.gimbal import (
     INPUTS,
@@ -37,6 +38,9 @@ from uavdamp.platform.gimbal import (
     outer_per_gain,
     plant_tf,
 )
+
+if TYPE_CHECKING:
+    from scipy import signal
 
 REPORT_FREQ_HZ = (7.0, 28.0, 85.0)  # Hz, the default frequencies of the report's |S| (choice)
 
@@ -62,12 +66,16 @@ def _whole_loop_poly(p: GimbalParams, gains: AxisGains) -> tuple[np.ndarray, np.
 
 def whole_loop(p: GimbalParams, gains: AxisGains) -> signal.dlti:
     """L(z), the whole loop broken at the torque (module docstring), as a scipy dlti."""
+    from scipy import signal
+
     num, den = _whole_loop_poly(p, gains)
     return signal.dlti(np.trim_zeros(num, "f"), den, dt=p.period)  # equal lengths: z^-1 and z forms agree
 
 
 def sensitivity(p: GimbalParams, gains: AxisGains) -> signal.dlti:
     """S(z) = 1 / (1 + L(z)) as a scipy dlti."""
+    from scipy import signal
+
     num, den = _whole_loop_poly(p, gains)
     return signal.dlti(den, num + den, dt=p.period)
 
@@ -90,6 +98,8 @@ def responses(p: GimbalParams, gains: AxisGains, freq_hz) -> dict[str, np.ndarra
 def margins(loop, f_max_hz: float, f_min_hz: float = 0.01, n: int = 20000) -> dict[str, float]:
     """Gain crossover (Hz, the highest |L| = 1), phase margin (deg, the least over the crossovers) and gain margin
     (dB, at the first -180 deg phase crossing above the crossover; inf if none) of a loop `loop(f) -> complex`."""
+    from scipy import optimize
+
     f = np.geomspace(f_min_hz, f_max_hz, n)
     mag = np.abs(loop(f))
     cross = np.flatnonzero(np.diff(np.sign(mag - 1.0)) != 0)

@@ -24,7 +24,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 from scipy.linalg import expm
 
 from uavdamp.contract import STANDARD_GRAVITY
@@ -79,6 +78,8 @@ class ImuParams:
 
 def lowpass(p: ImuParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The sensor low-pass F(s) in state space (a 1/s, b, c), unit DC gain, Butterworth of p.filter_order."""
+    from scipy import signal
+
     num, den = signal.butter(p.filter_order, 2 * math.pi * p.bandwidth_hz, analog=True)
     a, b, c, _ = signal.tf2ss(num, den)
     return np.asarray(a), np.asarray(b), np.asarray(c)

@@ -9,7 +9,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
-from scipy.signal import welch  # noqa: E402
 
 AXIS_COLOURS = {"x": "tab:red", "y": "tab:green", "z": "tab:blue"}
 PANELS = (
@@ -21,6 +20,8 @@ PANELS = (
 def welch_psd(signal: np.ndarray, sample_rate_hz: float, segment_s: float) -> tuple[np.ndarray, np.ndarray]:
     """One-sided Welch PSD (Hann segments of `segment_s` s or the record, half overlap, mean removed):
     (freq Hz, PSD in the signal's unit squared per Hz)."""
+    from scipy.signal import welch
+
     nperseg = int(min(signal.size, round(segment_s * sample_rate_hz)))
     return welch(signal, fs=sample_rate_hz, nperseg=nperseg, detrend="constant", scaling="density")
 

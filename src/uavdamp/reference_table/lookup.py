@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import xarray as xr
-from scipy.interpolate import RegularGridInterpolator
 
 from uavdamp.reference_table.criteria import select_table
 
@@ -21,6 +20,7 @@ class TableLookup:
     """
 
     def __init__(self, table: xr.Dataset, criterion: str | None = None, window: str | None = None):
+        from scipy.interpolate import RegularGridInterpolator
 
         if "criterion" in table.dims or "window" in table.dims:
             criterion = table.attrs["criterion"] if criterion is None else criterion

@@ -23,8 +23,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.fft import irfft, rfft, rfftfreq
-from scipy.interpolate import CubicSpline
-from scipy.signal.windows import tukey
 
 TAPER_PERIODS = 2.0  # length of each cosine end of the taper, in periods of the band's low edge
 EDGE_PERIODS = 3.0  # samples this many low-edge periods from either end are untrusted
@@ -64,6 +62,8 @@ def resample(time_s: np.ndarray, values: np.ndarray, grid_s: np.ndarray, *, deri
     On uniform samples the spline's derivative at the knots is the fourth-order compact (Pade) central
     difference, gain 3 sin(x) / (x (2 + cos x)) at x = 2 pi f dt: -0.04 % at f = fs / 10, -1.7 % at fs / 5.
     """
+    from scipy.interpolate import CubicSpline
+
     t0 = float(time_s[0])
     spline = CubicSpline(np.asarray(time_s, dtype=float) - t0, np.asarray(values, dtype=float), axis=1)
     on_grid = spline(np.asarray(grid_s, dtype=float) - t0)
@@ -109,6 +109,8 @@ def band_integrate(
     only samples further than `edge_s(band_hz)` from either end (module docstring). `upsample` > 1 returns
     the result every dt / upsample s ((n - 1) upsample + 1 samples) by the zero-padded inverse FFT: exact
     band-limited interpolation, as the result has no content outside the band and tapers to 0 at the ends."""
+    from scipy.signal.windows import tukey
+
     low, high = float(band_hz[0]), float(band_hz[1])
     x = np.asarray(signal, dtype=float)
     n = x.shape[-1]

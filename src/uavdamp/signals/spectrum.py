@@ -11,7 +11,6 @@ every estimator takes.
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 DETRENDS = ("constant", "linear")
 
@@ -93,6 +92,8 @@ def refine_by_sine_fit(
     to [min_freq_hz, max_freq_hz]. It also removes the bias from the negative-frequency image that a
     windowed FFT shows when the record holds only a few cycles.
     """
+    from scipy.optimize import minimize_scalar
+
     x = np.asarray(signal, dtype=float)
     n = x.size
     t = (np.arange(n) - 0.5 * (n - 1)) * dt

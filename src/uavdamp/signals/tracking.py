@@ -27,7 +27,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
-import scipy.signal
 from threadpoolctl import threadpool_limits
 
 from uavdamp.settings import require, setting
@@ -169,6 +168,8 @@ def frequency_causal(time: np.ndarray, signal: np.ndarray, t_now: float, options
     (window semantics: `spectrum.causal_segment`). method "fft" returns exactly
     `spectrum.dominant_frequency_causal` with these options.
     """
+    import scipy.signal
+
     if options.method == "fft":
         return spectrum.dominant_frequency_causal(
             time,

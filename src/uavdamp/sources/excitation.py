@@ -22,7 +22,6 @@ from fractions import Fraction
 
 import numpy as np
 import xarray as xr
-from scipy.signal import butter, resample_poly, sosfiltfilt
 
 from uavdamp.contract import AXES, MOUNT_AXES, MountMotion  # the axes a case scales and reads; the mount's
 from uavdamp.settings import require, setting
@@ -112,6 +111,8 @@ class ExcitationOptions:
 
 def high_pass(signal: np.ndarray, dt: float, cutoff_hz: float, order: int = 4) -> np.ndarray:
     """Zero-phase Butterworth high-pass of `signal` sampled every `dt` s (cutoff in Hz)."""
+    from scipy.signal import butter, sosfiltfilt
+
     if not 0 < cutoff_hz < 0.5 / dt:
         raise ValueError(f"highpass_hz: {cutoff_hz} Hz must lie between 0 and the Nyquist frequency {0.5 / dt} Hz")
     sos = butter(order, cutoff_hz, btype="highpass", fs=1.0 / dt, output="sos")
@@ -297,6 +298,8 @@ def on_common_grid(cases: list[tuple[np.ndarray, MountMotion]], names: list[str]
     sampling among them: a coarser case is resampled band-limited (`scipy.signal.resample_poly` by `grid_ratio`;
     the timing error is what the ratio's mismatch gathers over the record, below DRIFT_NYQUIST_PERIODS of the
     case's Nyquist period), the same case sampled alike stays exactly as it was; all are cut to the shortest."""
+    from scipy.signal import resample_poly
+
     steps = [float(np.mean(np.diff(t))) for t, _ in cases]
     finest = min(steps)
     out, drift = [], []

@@ -27,7 +27,6 @@ import math
 
 import numpy as np
 import xarray as xr
-from scipy.signal import lfilter, savgol_filter
 
 from uavdamp.contract import STANDARD_GRAVITY, XYZ
 from uavdamp.signals import spectrum
@@ -75,6 +74,8 @@ def line_level(accel_m_s2: float, freq_hz: float) -> dict[str, float]:
 
 def _lowpass(x: np.ndarray, dt: float, cutoff_hz: float) -> np.ndarray:
     """ArduPilot's first-order low-pass along the last axis: y[k] = y[k-1] + alpha (x[k] - y[k-1]), y[0] = x[0]."""
+    from scipy.signal import lfilter
+
     alpha = dt / (dt + 1.0 / (2 * np.pi * cutoff_hz))
     zi = (1 - alpha) * x[..., :1]  # so that y[0] = x[0], as the filter's first sample
     return lfilter([alpha], [1.0, alpha - 1.0], x, axis=-1, zi=zi)[0]
@@ -110,6 +111,8 @@ def acceleration_from_displacement(displacement_m, dt: float) -> np.ndarray:
     """Acceleration (m s-2) of a displacement record (..., n): the second derivative of the local quartic through
     five samples (Savitzky-Golay, scipy.signal). Its gain at f is exact to (2 pi f dt)^4 / 90 relative (0.7 % at
     28 Hz sampled at 200 Hz); a line read by `line_levels` is converted exactly instead."""
+    from scipy.signal import savgol_filter
+
     return savgol_filter(np.asarray(displacement_m, dtype=float), 5, 4, deriv=2, delta=dt, axis=-1, mode="interp")
 
 

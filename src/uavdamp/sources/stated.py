@@ -25,7 +25,6 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 import xarray as xr
-from scipy.signal import butter, chirp, sosfiltfilt
 
 from uavdamp.contract import MOUNT_AXES, MountMotion
 from uavdamp.settings import require, setting
@@ -142,6 +141,8 @@ class StatedSource:
 def synthetic_yz(kind: str, spec, *, duration: float, amplitude: float, time_step: float):
     """(time s, y m, z m) of a sweep, tones or random input (module docstring), sampled every time_step s; `spec`
     has the kind's keys as attributes or mapping entries."""
+    from scipy.signal import butter, chirp, sosfiltfilt
+
     get = spec.get if isinstance(spec, dict) else lambda k: getattr(spec, k)
     t = np.arange(int(round(duration / time_step)) + 1) * time_step
     if kind == "sweep":

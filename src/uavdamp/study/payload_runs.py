@@ -22,7 +22,6 @@ from fractions import Fraction
 from typing import NamedTuple
 
 import numpy as np
-from scipy import signal
 
 from uavdamp.camera.criteria import CRITERIA, los_std, pixel_attrs, window_mask
 from uavdamp.camera.image_quality import frame_summary, frames_from_image_path
@@ -340,6 +339,8 @@ def resampled(time: np.ndarray, mount: MountMotion, h: float) -> tuple[np.ndarra
     either side: the acceleration of a line below 0.2 of the Nyquist frequency within 0.1 %, at 0.2 within 1 %
     (tests/test_payload.py); scipy's default filter (beta 5) left images whose second derivative was 86 % of a
     7 Hz line's sampled at 200 Hz."""
+    from scipy import signal
+
     ratio = resample_ratio(float(time[1] - time[0]), h)
     if ratio is None:
         raise ValueError(

@@ -32,7 +32,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from uavdamp import registry
 from uavdamp.camera.criteria import CRITERIA
@@ -163,6 +162,8 @@ def best_constant(
     the best candidate's cost (`parabola_gain`). Each C is evaluated once; a non-finite cost counts as +inf; among
     equal costs the smallest C wins.
     """
+    from scipy.optimize import minimize_scalar
+
     grid = np.unique(np.asarray(candidates, dtype=float))
     if grid.size < 2:
         raise ValueError("candidates: need at least 2 distinct values")

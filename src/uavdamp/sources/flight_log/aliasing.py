@@ -11,7 +11,6 @@ PROMINENCE times above that stream's median PSD above MIN_LINE_HZ (choices).
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import welch
 
 from uavdamp.sources.flight_log.records import AXES, ImuRecord
 
@@ -47,6 +46,8 @@ def logged_lines(record: ImuRecord, window: tuple[float, float], blades: int) ->
 def stream_lines(record: ImuRecord, window: tuple[float, float], rate_hz: float) -> list[dict]:
     """Per axis of each stream FASTER times the rate read: its strongest PSD line above the Nyquist frequency of
     the rate read, if PROMINENCE times its median PSD above MIN_LINE_HZ."""
+    from scipy.signal import welch
+
     out = []
     for stream in record.streams:
         keep = _in(stream.time_s, window)

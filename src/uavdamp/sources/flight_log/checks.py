@@ -23,8 +23,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from scipy.ndimage import median_filter
-from scipy.signal import butter, sosfiltfilt
 
 from uavdamp.signals import inertial
 from uavdamp.sources.flight_log.records import AXES, G0, FlightLogError, ImuRecord
@@ -157,6 +155,8 @@ def check_units(path: Path, record: ImuRecord) -> dict[str, float]:
 def attitude_scale(record: ImuRecord) -> tuple[float, float]:
     """(s, R2): the least-squares s in w_attitude = s w_gyro, both low-passed at TILT_HZ (at most a fifth of
     the attitude's rate) on the attitude's times; (nan, 0) without an attitude or when it barely turns."""
+    from scipy.signal import butter, sosfiltfilt
+
     att = record.attitude_rates
     if att is None:
         return float("nan"), 0.0
@@ -178,6 +178,8 @@ def attitude_scale(record: ImuRecord) -> tuple[float, float]:
 def tilt_scale(record: ImuRecord) -> tuple[float, float]:
     """(s, R2): the least-squares s in du/dt = -s w x u, u the specific force's direction low-passed at
     TILT_HZ, on the gyro's times where both streams run (module docstring); (nan, 0) if too short."""
+    from scipy.signal import butter, sosfiltfilt
+
     t = record.time_s
     keep = (t >= record.acc_time_s[0]) & (t <= record.acc_time_s[-1])
     t = t[keep]
@@ -200,6 +202,8 @@ def tilt_scale(record: ImuRecord) -> tuple[float, float]:
 
 def bad_samples(record: ImuRecord, keep_acc: np.ndarray, keep_gyro: np.ndarray) -> list[dict]:
     """Samples of the window beyond the full scale or isolated spikes (module docstring), first first."""
+    from scipy.ndimage import median_filter
+
     found = []
     streams = (
         ("acceleration", record.acc_time_s, record.acceleration, keep_acc, record.acc_range_m_s2, "m/s2"),

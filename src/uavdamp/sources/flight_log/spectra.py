@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import find_peaks, welch
 
 from uavdamp.sources import levels
 
@@ -21,6 +20,8 @@ def vibe(time_s: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
 def psd_peaks(time_s: np.ndarray, values: np.ndarray, band_hz=None, count: int = 3) -> list[list[tuple[float, float]]]:
     """Per axis, the `count` strongest Welch PSD peaks [(freq Hz, PSD units^2/Hz)] inside band_hz (default
     MIN 1 Hz to Nyquist), 1 s segments (the record's length if shorter)."""
+    from scipy.signal import find_peaks, welch
+
     fs = 1.0 / float(np.median(np.diff(time_s)))
     low, high = band_hz if band_hz is not None else (1.0, 0.5 * fs)
     out = []
