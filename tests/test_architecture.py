@@ -182,8 +182,8 @@ def test_the_heavy_scipy_subpackages_wait_for_the_first_call():
     """The Snakefile's imports and the jobs that filter, fit and interpolate nothing import none of `LAZY_SCIPY`
     (each job its own interpreter: about 0.65 s saved where scipy.signal is not needed); the first call that needs
     one brings it in. (The config checks that follow the Snakefile's imports design the gimbal's gains: they need
-    scipy.signal.) Seen failing with `from scipy.signal import butter, resample_poly, sosfiltfilt` at
-    uavdamp.sources.excitation's top."""
+    scipy.signal.) Seen failing with `from scipy.signal import butter` put back at uavdamp.sources.excitation's
+    top."""
     scripts = [ROOT / "workflow" / "scripts" / f"{name}.py" for name in JOBS_WITHOUT_SCIPY_CALLS]
     script = "\n".join(
         [
