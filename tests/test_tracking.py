@@ -6,6 +6,8 @@ import dataclasses
 
 import numpy as np
 import pytest
+import scipy.linalg
+from threadpoolctl import threadpool_info, threadpool_limits
 
 from uavdamp.settings import parse
 from uavdamp.signals import spectrum, tracking
@@ -181,6 +183,26 @@ def test_esprit_resolves_two_close_lines_with_their_amplitudes():
     freq, amp = tracking.esprit_lines(TWO_LINES, DT, 2)
     np.testing.assert_allclose(freq, [5.0, 5.6], rtol=1e-9)
     np.testing.assert_allclose(amp, [2.0, 0.7], rtol=1e-9)
+
+
+def _blas_threads() -> list[int]:
+    return [pool["num_threads"] for pool in threadpool_info() if pool["user_api"] == "blas"]
+
+
+def test_esprit_solves_on_one_blas_thread_and_gives_the_pools_back(monkeypatch):
+    """ESPRIT's SVD and its two least-squares solves run with every BLAS pool (numpy's and scipy.linalg's OpenBLAS)
+    at one thread (small dense problems: more threads only contend), and the pools are as they were after the call.
+    Seen failing with the limit left out, and with the last solve moved out of it."""
+    seen = []
+    svd, lstsq = scipy.linalg.svd, scipy.linalg.lstsq
+    monkeypatch.setattr(scipy.linalg, "svd", lambda *a, **k: seen.append(_blas_threads()) or svd(*a, **k))
+    monkeypatch.setattr(scipy.linalg, "lstsq", lambda *a, **k: seen.append(_blas_threads()) or lstsq(*a, **k))
+    with threadpool_limits(2):  # two threads before the call, on any machine
+        before = _blas_threads()
+        tracking.esprit_lines(TWO_LINES, DT, 2)
+        after = _blas_threads()
+    assert before and before == after == [2] * len(before)
+    assert seen == [[1] * len(before)] * 3
 
 
 @pytest.mark.parametrize("seed", range(4))
