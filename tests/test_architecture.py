@@ -93,8 +93,8 @@ def test_the_packages_import_without_circles():
 # backend, numba (`uavdamp.compiled`: the kernels compiled on first use) and SciPy's heavy subpackages (signal brings
 # stats: 0.65 s over numpy and xarray; optimize 0.29 s, interpolate 0.38 s, integrate 0.41 s, ndimage 0.12 s; each
 # the least of 3 imports, 2026-12-07), so that `import uavdamp`, the numeric modules and a job that never filters,
-# fits or interpolates stay cheap (tests/test_flight_log.py checks the first, `test_the_heavy_scipy_subpackages_wait`
-# the last)
+# fits or interpolates stay cheap (tests/test_flight_log.py checks the first,
+# `test_the_heavy_scipy_subpackages_wait_for_the_first_call` the last)
 LAZY_THIRD_PARTY = {"pyulog", "pymavlink", "matplotlib", "numba"}
 LAZY_SCIPY = ("scipy.signal", "scipy.optimize", "scipy.interpolate", "scipy.integrate", "scipy.ndimage")
 
