@@ -43,7 +43,7 @@ def test_skyhook_between_equal_dampings_is_the_constant_run():
     u[1], u[3] = 1e-3 * np.sin(2 * np.pi * 7 * t), 2e-3 * np.sin(2 * np.pi * 11 * t)
     moved = MountMotion(u[:3], u[3:])
     isolator = runs.six_axis_isolator(SECTION, 10.0)
-    body, on = laws.skyhook_motion(isolator, t, moved, 10.0, 10.0)
+    ((body, on),) = laws.skyhook_motions(isolator, t, moved, [10.0], 10.0)
     constant = runs.isolated_motion(isolator, t, moved)
     np.testing.assert_allclose(body.coordinates, constant.coordinates, rtol=0, atol=1e-12)
     np.testing.assert_allclose(body.rates, constant.rates, rtol=0, atol=1e-10)
@@ -74,7 +74,7 @@ def test_skyhook_damps_the_resonance_and_passes_high_frequencies_as_its_off_stat
     isolator = runs.six_axis_isolator(SECTION, 1.0)
     for f, worse_than in ((f_n, 1.0), (30.0, 100.0)):
         t, moved = _vertical(f, 1e-4)
-        body, _ = laws.skyhook_motion(isolator, t, moved, 100.0, 1.0)
+        ((body, _),) = laws.skyhook_motions(isolator, t, moved, [100.0], 1.0)
         ratio = _fit(t, body.coordinates[2], f, 1.5) / 1e-4
         assert ratio < 0.8 * _sdof(f, worse_than), (f, ratio, _sdof(f, worse_than))
 

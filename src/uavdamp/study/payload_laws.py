@@ -132,13 +132,6 @@ def skyhook_motions(
     return [(body_motion(ds, h), _on_share(ds.damping.values.T, c, c_off)) for ds, c in zip(runs, c_ons, strict=True)]
 
 
-def skyhook_motion(
-    isolator: SixAxisIsolator, time: np.ndarray, mount: MountMotion, c_on: float, c_off: float, lag_s: float = 0.0
-) -> tuple[BodyMotion, float]:
-    """`skyhook_motions` of one c_on."""
-    return skyhook_motions(isolator, time, mount, [c_on], c_off, lag_s)[0]
-
-
 def body_motion(ds, h: float) -> BodyMotion:
     """The payload's `BodyMotion` from a `six_axis_run.run` dataset on a grid of step h s: its coordinates and
     rates, the accelerations their central differences, the peak |element stroke|."""
