@@ -7,7 +7,10 @@ import re
 import subprocess
 import sys
 
-from conftest import ROOT
+import numpy as np
+from conftest import ROOT, anfis_options
+
+from uavdamp.anfis import DampingModel
 
 SRC = ROOT / "src" / "uavdamp"
 BOUNDS = re.compile(r"\b(c_min|c_max|damping_min|damping_max)\b")
@@ -217,3 +220,31 @@ def test_the_snakefile_checks_the_config_without_scikit_learn():
     )
     done = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "[]", done.stdout + done.stderr
+
+
+# job scripts that run damping laws on a trained ANFIS and train nothing
+JOBS_THAT_RUN_A_TRAINED_LAW = ("study", "payload", "benchmark_run", "benchmark_payload_run")
+
+
+def test_the_jobs_that_run_a_trained_law_import_no_scikit_learn(tmp_path):
+    """The jobs that only ask a trained ANFIS for C (`JOBS_THAT_RUN_A_TRAINED_LAW`: 36 of the default benchmark's
+    jobs) load it as a `DampingPredictor` and import no scikit-learn, whose import takes about 1.2 s of each job:
+    their imports, the model read from its file and a prediction. Seen failing with `benchmark_run.py` loading a
+    `DampingModel` again."""
+    X = np.random.default_rng(0).uniform([5.0, 5.0, 10.0], [30.0, 30.0, 1000.0], (40, 3))
+    model = DampingModel.unfitted(anfis_options(epochs=2, seed=0, log_stiffness=True, log_damping=True))
+    model.estimator.set_params(init="grid", n_mfs=2)
+    model.fit(X, 1.0 + X[:, 0] / X[:, 2]).to_dataset().to_netcdf(tmp_path / "model.nc")
+    scripts = [ROOT / "workflow" / "scripts" / f"{name}.py" for name in JOBS_THAT_RUN_A_TRAINED_LAW]
+    script = "\n".join(
+        [
+            "import sys",
+            *(_top_imports(path) for path in scripts),
+            "from uavdamp import io",
+            f"model = DampingPredictor.from_dataset(io.open_dataset({str(tmp_path / 'model.nc')!r}))",
+            "print(model.predict([[10.0, 12.0, 100.0]]).shape)",
+            "print(sorted(m for m in sys.modules if m.split('.')[0] == 'sklearn')[:3])",
+        ]
+    )
+    done = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True, check=True)
+    assert done.stdout.split("\n")[:2] == ["(1,)", "[]"], done.stdout + done.stderr

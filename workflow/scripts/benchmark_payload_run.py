@@ -1,7 +1,7 @@
 """Snakemake script: the benchmark on the payload, one scenario (wildcard `scenario`) -> the gimbal's runs on it."""
 
 from uavdamp import integrity, io, workflow
-from uavdamp.anfis.damping import DampingModel
+from uavdamp.anfis.predictor import DampingPredictor
 from uavdamp.benchmark import payload as bench
 from uavdamp.benchmark.runner import case_of
 from uavdamp.camera.optics import CameraModel
@@ -43,7 +43,7 @@ def make() -> None:
     name = snakemake.wildcards.scenario
     time, mount, described = scenario_input(name)
     table = io.open_dataset(snakemake.input.table)  # the payload table: the scheduled law's
-    model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))  # the payload ANFIS
+    model = DampingPredictor.from_dataset(io.open_dataset(snakemake.input.model))  # the payload ANFIS
     ds = bench.run_scenario(name, described, time, mount, section, platform, camera, table, model)
     workflow.log_info(f"los_std (rad):\n{ds.los_std.to_dataframe().to_string()}")
     if "law_los_std" in ds:

@@ -1,7 +1,7 @@
 """Snakemake script: every benchmark controller on one scenario (wildcard `scenario`) -> its criteria."""
 
 from uavdamp import integrity, io, workflow
-from uavdamp.anfis import DampingModel
+from uavdamp.anfis import DampingPredictor
 from uavdamp.benchmark import loop as benchmark
 from uavdamp.config.load import benchmark_options
 from uavdamp.damping import actuation
@@ -17,7 +17,7 @@ config = {"runs": p.runs, "tracking": p.tracking, "camera": p.camera, "platform"
 
 
 def make() -> None:
-    model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
+    model = DampingPredictor.from_dataset(io.open_dataset(snakemake.input.model))
     tuned = benchmark.merge_tuned([io.open_dataset(path) for path in snakemake.input.tuned])
     ds = benchmark.run_scenario(
         io.open_dataset(snakemake.input.scenario),

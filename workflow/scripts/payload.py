@@ -2,7 +2,7 @@
 and the line-of-sight and transmissibility figures."""
 
 from uavdamp import integrity, io, workflow
-from uavdamp.anfis.damping import DampingModel
+from uavdamp.anfis.predictor import DampingPredictor
 from uavdamp.camera.optics import CameraModel
 from uavdamp.platform import PlatformParams
 from uavdamp.plots import payload as plots
@@ -20,7 +20,7 @@ camera = parse(CameraModel, p.camera, "camera")
 sources = {name: parse(StatedSource, cfg, f"sources.{name}") for name, cfg in p.sources.items()}
 cases = io.open_dataset(snakemake.input.cases)
 table = io.open_dataset(snakemake.input.table)  # the payload table: the scheduled law's
-model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))  # the payload ANFIS: the law anfis's
+model = DampingPredictor.from_dataset(io.open_dataset(snakemake.input.model))  # the payload ANFIS: the law anfis's
 ds = payload.compare_inputs(payload.inputs(cases, sources, section), section, platform, camera, table, model)
 design = payload_design.design_dataset(section)
 for name in ("los_std", "best_damping", "law_los_std", "scheduled_damping", "anfis_damping"):

@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from uavdamp import integrity, io, workflow
-from uavdamp.anfis import DampingModel
+from uavdamp.anfis import DampingPredictor
 from uavdamp.config.load import study_options
 from uavdamp.platform import PlatformParams
 from uavdamp.platform.params import StrokeBudget
@@ -20,7 +20,7 @@ options = study_options(cfg, p.camera)
 platform = parse(PlatformParams, p.platform, "platform")
 budget = parse(StrokeBudget, p.stroke, "platform.stroke")
 cases = io.open_dataset(snakemake.input.cases)
-model = DampingModel.from_dataset(io.open_dataset(snakemake.input.model))
+model = DampingPredictor.from_dataset(io.open_dataset(snakemake.input.model))
 ds = study.run_study(cases, platform, model, options, progress=True, budget=budget)
 if p.extrapolation:  # allowed by study.allow_extrapolation (uavdamp.config.checks.extrapolation)
     ds.attrs["extrapolation_warning"] = "; ".join(p.extrapolation)

@@ -81,6 +81,16 @@ def _firing(XT: np.ndarray, centres, sigmas, mf_input, incidence) -> tuple[np.nd
     return Z, w
 
 
+def _predict(X: np.ndarray, input_range, centres, sigmas, mf_input, incidence, consequents) -> np.ndarray:
+    """Output (n,) for X (n, d): each input clamped to its training range (input_range (d, 2)), then the rules'
+    first-order outputs weighted by their normalised firing strengths. Shared by the estimator and the
+    scikit-learn-free predictor (``uavdamp.anfis.predictor``), so that both give the same bits."""
+    XcT = np.ascontiguousarray(np.clip(X, input_range[:, 0], input_range[:, 1]).T)
+    w = _firing(XcT, centres, sigmas, mf_input, incidence)[1]
+    f = consequents[:, :-1] @ XcT + consequents[:, -1:]
+    return (w * f).sum(axis=0)
+
+
 def _premise_gradient(Z, w, f, y_hat, err, sigmas, incidence) -> tuple[np.ndarray, np.ndarray]:
     """dE/dc and dE/dsigma per MF for E = sum(err^2), err = y - y_hat, consequents fixed.
 

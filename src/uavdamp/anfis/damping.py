@@ -17,6 +17,7 @@ import xarray as xr
 
 from uavdamp.anfis.estimator import ANFIS
 from uavdamp.anfis.params import AnfisOptions
+from uavdamp.anfis.predictor import damping_of, learnt_inputs
 
 INPUTS = ("freq_y", "freq_z", "stiffness")
 
@@ -53,10 +54,7 @@ class DampingModel:
 
     def inputs(self, X) -> np.ndarray:
         """Rows [f_y Hz, f_z Hz, K N/m] as the learnt inputs (K -> log10 K if configured)."""
-        X = np.array(X, dtype=float, ndmin=2)
-        if self.log_stiffness:
-            X[:, 2] = np.log10(X[:, 2])
-        return X
+        return learnt_inputs(X, self.log_stiffness)
 
     def target(self, damping) -> np.ndarray:
         """C (N s/m) as the learnt target (log10 C if configured)."""
@@ -64,7 +62,7 @@ class DampingModel:
 
     def damping(self, target) -> np.ndarray:
         """The learnt target (C or log10 C) as C, N s/m."""
-        return 10.0 ** np.asarray(target, float) if self.log_damping else np.asarray(target, float)
+        return damping_of(target, self.log_damping)
 
     def fit(self, X, y, X_val=None, y_val=None) -> DampingModel:
         """Fit on rows X and C; X_val, y_val (ANFIS only) choose the epoch instead of its validation_fraction."""

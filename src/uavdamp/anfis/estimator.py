@@ -67,6 +67,7 @@ from uavdamp.anfis._checks import _output_scaling, check_params
 from uavdamp.anfis._math import (
     _firing,
     _incidence,
+    _predict,
     _premise_gradient,
     _solve_consequents,
     _with_ones_row,
@@ -315,10 +316,8 @@ class ANFIS(RegressorMixin, BaseEstimator):
         """Output for X (n, d) in original units; inputs are clamped to the training range first."""
         self._check_fitted()
         X = validate_data(self, X, reset=False, dtype=np.float64)
-        XcT = np.ascontiguousarray(np.clip(X, self.input_range_[:, 0], self.input_range_[:, 1]).T)
-        w = _firing(XcT, self.centres_, self.sigmas_, self.mf_input_, self._incidence_)[1]
-        f = self.consequents_[:, :-1] @ XcT + self.consequents_[:, -1:]
-        return (w * f).sum(axis=0)
+        args = (self.centres_, self.sigmas_, self.mf_input_, self._incidence_, self.consequents_)
+        return _predict(X, self.input_range_, *args)
 
     # -- reading the rules ---------------------------------------------------------------------
 

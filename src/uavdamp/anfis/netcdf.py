@@ -146,9 +146,9 @@ def to_dataset(model) -> xr.Dataset:
     return ds
 
 
-def from_dataset(cls, ds: xr.Dataset):
-    """Rebuild a fitted ``cls`` (ANFIS) from ``to_dataset`` output, without its incidence matrix."""
-    model = cls(**json.loads(ds.attrs["hyperparameters"]))
+def fitted_arrays(ds: xr.Dataset) -> dict:
+    """The fitted attributes of an ANFIS (``n_features_in_``, ``input_range_``, ``centres_``, ...) from
+    ``to_dataset`` output, by attribute name; the rules' MF indices (``rule_mf_``) count over all inputs' MFs."""
     names = [str(v) for v in ds["input_name"].values]
     d = len(names)
     sizes = [ds.sizes[f"mf_{i}"] for i in range(d)]
@@ -157,18 +157,29 @@ def from_dataset(cls, ds: xr.Dataset):
     def joined(var: str) -> np.ndarray:
         return np.concatenate([np.asarray(ds[f"{var}_{i}"].values, float) for i in range(d)])
 
-    model.n_features_in_ = d
-    model.input_names_ = names
-    model.input_units_ = [str(v) for v in ds["input_units"].values]
-    model.input_range_ = np.stack([np.asarray(ds[f"input_range_{i}"].values, float) for i in range(d)])
-    model.mf_input_ = np.repeat(np.arange(d), sizes)
-    model.rule_mf_ = np.asarray(ds["rule_mf"].values, dtype=np.int64) - 1 + offsets
-    model.centres_, model.sigmas_ = joined("mf_centre"), joined("mf_sigma")
-    model.initial_centres_, model.initial_sigmas_ = joined("mf_centre_initial"), joined("mf_sigma_initial")
     coefs = [np.asarray(ds[f"consequent_{i}"].values, float) for i in range(d)]
-    model.consequents_ = np.column_stack(coefs + [np.asarray(ds["consequent_constant"].values, float)])
-    model.train_rmse_ = np.asarray(ds["train_rmse"].values, float)
-    model.val_rmse_ = np.asarray(ds["val_rmse"].values, float) if "val_rmse" in ds else np.array([])
-    model.step_sizes_ = np.asarray(ds["step_size"].values, float)
-    model.best_epoch_ = int(ds.attrs["best_epoch"])
+    return {
+        "n_features_in_": d,
+        "input_names_": names,
+        "input_units_": [str(v) for v in ds["input_units"].values],
+        "input_range_": np.stack([np.asarray(ds[f"input_range_{i}"].values, float) for i in range(d)]),
+        "mf_input_": np.repeat(np.arange(d), sizes),
+        "rule_mf_": np.asarray(ds["rule_mf"].values, dtype=np.int64) - 1 + offsets,
+        "centres_": joined("mf_centre"),
+        "sigmas_": joined("mf_sigma"),
+        "initial_centres_": joined("mf_centre_initial"),
+        "initial_sigmas_": joined("mf_sigma_initial"),
+        "consequents_": np.column_stack(coefs + [np.asarray(ds["consequent_constant"].values, float)]),
+        "train_rmse_": np.asarray(ds["train_rmse"].values, float),
+        "val_rmse_": np.asarray(ds["val_rmse"].values, float) if "val_rmse" in ds else np.array([]),
+        "step_sizes_": np.asarray(ds["step_size"].values, float),
+        "best_epoch_": int(ds.attrs["best_epoch"]),
+    }
+
+
+def from_dataset(cls, ds: xr.Dataset):
+    """Rebuild a fitted ``cls`` (ANFIS) from ``to_dataset`` output, without its incidence matrix."""
+    model = cls(**json.loads(ds.attrs["hyperparameters"]))
+    for name, value in fitted_arrays(ds).items():
+        setattr(model, name, value)
     return model

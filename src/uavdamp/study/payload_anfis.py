@@ -35,6 +35,7 @@ from uavdamp.study.payload_schedule import Table
 
 if TYPE_CHECKING:  # scikit-learn is imported by a fit or a law only, not by the config layer (uavdamp.anfis)
     from uavdamp.anfis.damping import DampingModel
+    from uavdamp.anfis.predictor import DampingPredictor
 
 
 @dataclass(frozen=True)
@@ -132,14 +133,14 @@ def record_attrs(section: AnfisPayloadSection, table: xr.Dataset, grid: xr.Datas
 class AnfisLaw:
     """The ANFIS as the payload's law: C (N s m-1) from the dominant lines (6, 2) of `payload_schedule`."""
 
-    model: DampingModel
+    model: DampingModel | DampingPredictor  # anything with predict([[f_y Hz, f_z Hz, K N/m]]) -> C N s m-1
     dofs: tuple[str, str]
     stiffness: float  # N m-1, the isolator's element z stiffness
     low: float  # N s m-1, the eligible dampings' range
     high: float
 
     @classmethod
-    def of(cls, model: DampingModel, dofs, stiffness: float, table: Table) -> AnfisLaw:
+    def of(cls, model: DampingModel | DampingPredictor, dofs, stiffness: float, table: Table) -> AnfisLaw:
         """At element stiffness `stiffness`, clamped to `table`'s (the payload table there) dampings."""
         return cls(model, tuple(dofs), float(stiffness), float(table.damping.min()), float(table.damping.max()))
 
