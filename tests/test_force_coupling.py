@@ -9,7 +9,7 @@ from conftest import FunctionLaw, typed_config
 
 from uavdamp.contract import MountMotion
 from uavdamp.damping import actuation, laws
-from uavdamp.platform import force_coupling
+from uavdamp.platform import coupling_kernel, force_coupling
 from uavdamp.platform.linear_plant import LinearPlant
 
 PARAMS = typed_config("quick.yaml").platform
@@ -145,12 +145,41 @@ def test_the_mr_dampers_compiled_coupling_is_the_predictor_corrector_written_out
         np.testing.assert_allclose(compiled, generic, rtol=0, atol=1e-12 * np.abs(generic).max(), err_msg=name)
 
 
-def test_the_exact_linear_step_is_numpys_solution_of_the_two_by_two_system():
-    """Cramer's rule against `numpy.linalg.solve` on seeded systems I + k G, G with either sign and asymmetric."""
+def _numpy_steps(z0, end, free_map, free_drive, force_rows, gains):
+    """The exact linear step written with numpy (`coupling_kernel`'s docstring): states, stroke ends, forces."""
+    ns, z, forces = z0.size, [z0], []
+    g = force_rows[ns : ns + 2]
+    for n, k in enumerate(gains):
+        free = free_map @ z[-1] + free_drive[n]
+        f = np.linalg.solve(np.eye(2) + k * g, k * (free[ns : ns + 2] - end[:2]))
+        state = free - force_rows @ f
+        z.append(state[:ns])
+        end = state[ns:]
+        forces.append(f)
+    return np.array(z), end, np.array(forces)
+
+
+def test_the_compiled_exact_step_is_numpys_solution_of_the_two_by_two_system():
+    """`coupling_kernel.linear_steps` against the same steps in numpy (`numpy.linalg.solve` for the force) on seeded
+    systems: G with either sign and asymmetric, k over six decades, 1 and 40 steps from a given start; to the
+    round-off of the products and of the 2 x 2 solve (its condition number)."""
     rng = np.random.default_rng(7)
-    for _ in range(200):
-        k, g, free = 10 ** rng.uniform(-3, 3), rng.normal(size=(2, 2)) * 10 ** rng.uniform(-8, -2), rng.normal(size=2)
-        expected = np.linalg.solve(np.eye(2) + k * g, k * free)
-        got = force_coupling._exact_linear(k, *g.ravel().tolist(), free)
-        scale = np.linalg.cond(np.eye(2) + k * g) * np.abs(expected).max()
-        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-13 * scale)
+    for steps in (1, 1, 40):
+        for _ in range(60):
+            ns = 6
+            free_map = rng.normal(size=(ns + 4, ns)) * 0.3
+            force_rows = rng.normal(size=(ns + 4, 2)) * 10 ** rng.uniform(-8, -2)
+            gains = 10 ** rng.uniform(-3, 3, size=steps)
+            start = int(rng.integers(0, 3))
+            free_drive = rng.normal(size=(start + steps, ns + 4))
+            z = np.zeros((start + steps + 1, ns))
+            z[start] = rng.normal(size=ns)
+            end0 = rng.normal(size=4)
+            want_z, want_end, want_f = _numpy_steps(z[start], end0, free_map, free_drive[start:], force_rows, gains)
+            end, force = end0.copy(), np.zeros((start + steps + 1, 2))
+            coupling_kernel.linear_steps(z, end, free_map, free_drive, force_rows, gains, start, force)
+            cond = max(np.linalg.cond(np.eye(2) + k * force_rows[ns : ns + 2]) for k in gains)
+            tol = 1e-13 * cond * steps
+            np.testing.assert_allclose(force[start : start + steps], want_f, rtol=0, atol=tol * np.abs(want_f).max())
+            np.testing.assert_allclose(z[start:], want_z, rtol=0, atol=tol * np.abs(want_z).max())
+            np.testing.assert_allclose(end, want_end, rtol=0, atol=tol * np.abs(want_end).max())

@@ -14,7 +14,8 @@ expm([[A, B_f], [0, 0]] h)); the damper is stepped on the stroke the plant gives
 at 2 ms). A damper whose step mean force is linear in the stroke, F_d = k (x_1 - x_0) with k known at the step's start
 (`rate_gain`: the viscous and the lagged damper), is solved for exactly instead: (I + k G) F_d = k (x_free - x_0),
 G the stroke's response to a unit force: the fixed point of F_d <- k (x_free - G F_d - x_0), of which PECE takes
-two steps (with C = 200 N s m-1 at a 4 ms step PECE diverged, the exact step did not). A viscous force damper
+two steps (with C = 200 N s m-1 at a 4 ms step PECE diverged, the exact step did not); the exact step runs compiled
+over each interval the law's demand is held (`uavdamp.platform.coupling_kernel`). A viscous force damper
 converges to the exact plant at second order in the step (both: tests/test_force_coupling.py). The law is asked at
 its update times as by `LinearPlant.run` (same Observation); its clipped demand is handed to the damper (`command`).
 """
@@ -29,6 +30,7 @@ import xarray as xr
 from scipy.linalg import expm
 
 from uavdamp import contract
+from uavdamp.platform import coupling_kernel
 from uavdamp.platform.linear_plant import OUTPUTS
 
 _STROKE = [OUTPUTS.index("stroke_y"), OUTPUTS.index("stroke_z")]
@@ -109,14 +111,20 @@ def force_map(plant, b_f: np.ndarray, h: float) -> np.ndarray:
     return expm(big * h)[:ns, ns:]
 
 
-def _exact_linear(k: float, g00: float, g01: float, g10: float, g11: float, free_stroke) -> tuple[float, float]:
-    """F_d (N, (y, z)) solving (I + k G) F_d = k x_free (the module docstring; x_free the stroke's free increment, m)
-    by Cramer's rule on floats: a 2 x 2 system, solved once a step, where `numpy.linalg.solve`'s call costs more than
-    the arithmetic (its solution to round-off: tests/test_force_coupling.py)."""
-    r0, r1 = k * float(free_stroke[0]), k * float(free_stroke[1])
-    a00, a01, a10, a11 = 1.0 + k * g00, k * g01, k * g10, 1.0 + k * g11
-    det = a00 * a11 - a01 * a10
-    return (a11 * r0 - a01 * r1) / det, (a00 * r1 - a10 * r0) / det
+def _damper_step(damper: ForceDamper, h: float, end, free_end, g_rows) -> np.ndarray:
+    """The step's mean damper force F_d (N, (y, z)) from the stroke and rate at its start (end (4,)) and the free
+    plant's at its end (free_end (4,)), the damper advanced over h: its compiled `couple`, else PECE (module
+    docstring)."""
+    x0, xd0 = end[:2], end[2:]
+    couple = getattr(damper, "couple", None)
+    if couple is not None:
+        return couple(h, x0, xd0, free_end, g_rows)
+    saved = damper.save()
+    predicted = free_end - g_rows @ damper.force(x0, xd0)
+    mean = damper.step(h, x0, xd0, predicted[:2], predicted[2:])
+    damper.restore(saved)
+    corrected = free_end - g_rows @ mean
+    return damper.step(h, x0, xd0, corrected[:2], corrected[2:])
 
 
 def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr.Dataset:
@@ -145,34 +153,23 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     free_map = np.vstack([step.phi, c_rows @ step.phi])
     free_drive = np.hstack([drive, drive @ c_rows.T + share[1:]])
     force_rows = np.vstack([gamma_f, c_rows @ gamma_f])
-    g_rows = force_rows[ns:]
+    g_rows = force_rows[ns:]  # the stroke's and rate's response to a unit force (G: its first two rows)
     linear = hasattr(damper, "rate_gain")  # module docstring
-    (g00, g01), (g10, g11) = g_rows[:2].tolist()  # the stroke's response to a unit force, G
-    couple = getattr(damper, "couple", None)
     end = c_rows @ z[0] + share[0]
     damper.reset(end[:2])
-    for n in range(steps):
-        if n % per_update == 0:
-            applied[n] = plant._demand(law, n, data, z[n])
-            damper.command(applied[n])
-        else:
-            applied[n] = applied[n - 1]
-        x0, xd0 = end[:2], end[2:]
-        free = free_map @ z[n] + free_drive[n]  # (ns + 4,): the free state, then its stroke and rate
-        free_end = free[ns:]
-        if linear:
-            force[n] = _exact_linear(damper.rate_gain(h), g00, g01, g10, g11, free_end[:2] - x0)
-        elif couple is not None:
-            force[n] = couple(h, x0, xd0, free_end, g_rows)
-        else:
-            saved = damper.save()
-            predicted = free_end - g_rows @ damper.force(x0, xd0)
-            mean = damper.step(h, x0, xd0, predicted[:2], predicted[2:])
-            damper.restore(saved)
-            corrected = free_end - g_rows @ mean
-            force[n] = damper.step(h, x0, xd0, corrected[:2], corrected[2:])
-        state = free - force_rows @ force[n]
-        z[n + 1], end = state[:ns], state[ns:]
+    for start in range(0, steps, per_update):  # the law's update times; its demand held until the next
+        stop = min(start + per_update, steps)
+        applied[start:stop] = plant._demand(law, start, data, z[start])
+        damper.command(applied[start])
+        if linear:  # the exact step, compiled over the held interval
+            gains = [damper.rate_gain(h) for _ in range(start, stop)]
+            coupling_kernel.linear_steps(z, end, free_map, free_drive, force_rows, gains, start, force)
+            continue
+        for n in range(start, stop):
+            free = free_map @ z[n] + free_drive[n]  # (ns + 4,): the free state, then its stroke and rate
+            force[n] = _damper_step(damper, h, end, free[ns:], g_rows)
+            state = free - force_rows @ force[n]
+            z[n + 1], end = state[:ns], state[ns:]
     applied[-1], force[-1] = applied[-2], force[-2]
     out = z @ cont.c.T + u @ cont.du.T + rate @ cont.dv.T
     response = plant._response(data, out, applied, stiffness)
