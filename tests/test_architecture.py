@@ -183,10 +183,11 @@ def _top_imports(path) -> str:
 
 def test_the_heavy_scipy_subpackages_wait_for_the_first_call():
     """The Snakefile's imports and the jobs that filter, fit and interpolate nothing import none of `LAZY_SCIPY`
-    (each job its own interpreter: about 0.65 s saved where scipy.signal is not needed); the first call that needs
-    one brings it in. (The config checks that follow the Snakefile's imports design the gimbal's gains: they need
-    scipy.signal.) Seen failing with `from scipy.signal import butter` put back at uavdamp.sources.excitation's
-    top."""
+    (each job its own interpreter: about 0.65 s saved where scipy.signal is not needed), nor does the tracker on a
+    window it need not decimate (the benchmark's 2 ms grid); the first call that needs one brings it in. (The config
+    checks that follow the Snakefile's imports design the gimbal's gains: they need scipy.signal.) Seen failing with
+    `from scipy.signal import butter` put back at uavdamp.sources.excitation's top, and with the tracker importing
+    scipy.signal before it knows it decimates."""
     scripts = [ROOT / "workflow" / "scripts" / f"{name}.py" for name in JOBS_WITHOUT_SCIPY_CALLS]
     script = "\n".join(
         [
@@ -196,13 +197,18 @@ def test_the_heavy_scipy_subpackages_wait_for_the_first_call():
             *(_top_imports(path) for path in scripts),
             f"print(sorted(m for m in sys.modules if m.startswith({LAZY_SCIPY!r})))",
             "import numpy as np",
+            "from uavdamp.signals.tracking import TrackerOptions, frequency_causal",
+            "options = TrackerOptions('esprit', 4, 1.0, 3.0, 12.0, 1.5, 8, 7.0)",
+            "t = np.arange(0.0, 2.0, 2e-3)",  # 2 ms: 41 samples a period of 12 Hz, no decimation
+            "print(round(frequency_causal(t, np.sin(2 * np.pi * 7.0 * t), 1.9, options), 6))",
+            "print('scipy.signal' in sys.modules)",
             "from uavdamp.sources import excitation",
             "excitation.high_pass(np.zeros(64), 1e-3, 5.0, 2)",
             "print('scipy.signal' in sys.modules)",
         ]
     )
     done = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True, check=True)
-    assert done.stdout.split("\n")[:2] == ["[]", "True"], done.stdout + done.stderr
+    assert done.stdout.split("\n")[:4] == ["[]", "7.0", "False", "True"], done.stdout + done.stderr
 
 
 def test_the_snakefile_checks_the_config_without_scikit_learn():
