@@ -275,6 +275,63 @@ def test_a_lagged_schedule_is_converged_in_the_step(inputs, params, options):
     assert found[0]["displacement_std"] == pytest.approx(found[1]["displacement_std"], rel=2e-3)
 
 
+def test_a_run_repeated_across_criterion_families_is_run_once_and_scored_for_each(monkeypatch, inputs, params, options):
+    """Tuned laws often get the same parameters for two families (here the on-off skyhook's c_max 20 N s/m for the
+    second and third, the passive C 5 N s/m for all three): each distinct run is made once (counted), and every
+    family's J is that run's, as a run of the law built here directly gives it (an independent path: the law, the
+    lagged damper and the criteria without the benchmark's loop)."""
+    import xarray as xr
+
+    from uavdamp.benchmark import scoring
+    from uavdamp.benchmark.runner import Runner, case_of
+    from uavdamp.camera.criteria import FAMILIES, family_of
+    from uavdamp.damping import laws
+    from uavdamp.study import strategies
+
+    opts = replace(
+        options, controllers=("rigid", "passive_tuned", "skyhook_on_off"), stiffness=(10.0,),
+        dampers=("ideal", "lagged"), per_step_dampers=("lagged",), frame_phases=1, time_step=2e-3,
+    )  # fmt: skip
+    families = list(opts.tuning.criteria)
+    c_max = [50.0, 20.0, 20.0]
+    tuned = xr.Dataset(
+        {
+            "skyhook_c_max": (("tuned_for", "stiffness"), [[c] for c in c_max]),
+            "passive_damping": (("tuned_for", "stiffness"), [[5.0]] * 3),
+        },
+        coords={"tuned_for": families, "stiffness": [10.0]},
+    )
+    counted = []
+    real_run = Runner.run
+    monkeypatch.setattr(Runner, "run", lambda self, ctx, s, d: counted.append((s.name, d)) or real_run(self, ctx, s, d))
+    ds = benchmark.run_scenario(inputs["sweep"], tuned, params, opts).isel(scenario=0, stiffness=0)
+    assert sorted(counted) == sorted(
+        [("rigid", "ideal"), ("rigid", "lagged"), ("passive_tuned", "ideal"), ("passive_tuned", "lagged")]
+        + [("skyhook_on_off", "lagged")] * 2
+    )
+    runner = Runner(benchmark.plant_params(params, opts), opts)
+    case = case_of(inputs["sweep"])
+    rigid = scoring.response_metrics(runner.rigid.run(*case), opts.camera, 1)
+    for criterion, c in zip(families, c_max, strict=True):
+        law = laws.Skyhook(c, runner.isolated.bounds.c_min, 2e-3)
+        response = runner.run(runner.context(case, 10.0, {}), strategies.Strategy("direct", "isolated", law), "lagged")
+        j = scoring.criteria(response, rigid, opts.camera, 1)[0]
+        for scored in FAMILIES[family_of(criterion)]:
+            got = float(ds.J.sel(controller="skyhook_on_off", criterion=scored, damper="lagged"))
+            assert got == j[scored], (criterion, scored)
+
+
+def test_the_tuned_parameters_record_what_a_factory_reads():
+    """A run's key holds the tuned parameters its factory looked up, tested for (present or not) or iterated over."""
+    from uavdamp.benchmark.runner import ReadTuned
+
+    tuned = ReadTuned({"a": 1.0, "b": 2.0, "c": 3.0})
+    assert tuned["a"] == 1.0 and "z" not in tuned and tuned.get("b") == 2.0 and tuned.get("y", 7.0) == 7.0
+    assert set(tuned.read) == {"a", "z", "b", "y"} and tuned.read["z"] == tuned.read["y"] != 1.0
+    assert "c" not in tuned.read and tuned.unread() == {"a": 1.0, "b": 2.0, "c": 3.0} and "c" not in tuned.read
+    assert sorted(tuned) == ["a", "b", "c"] and tuned.read["c"] == 3.0
+
+
 def test_a_non_finite_demand_names_the_controller_the_scenario_and_k(inputs, params, options):
     """A controller whose law returns NaN: the benchmark's error names it, the scenario, K and the damper.
 

@@ -13,6 +13,8 @@ run tuned for that family (`tuned_on` says on which criterion); the clairvoyant 
 objectives it optimises (displacement_std: the displacement family; los_std: the line of sight), NaN elsewhere. A law
 decided every solver step runs only with the dampers of benchmark.per_step_dampers, and on the step-check scenarios it
 is rerun at half the step (`step_difference`; the run fails above benchmark.step_check.tolerance, naming the law).
+A run is made once per scenario and what it depends on (`runner.run_key`): a tuned law whose parameters coincide for
+two families (often: the same candidate or a range's end) is scored for both from one run.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import xarray as xr
 from threadpoolctl import threadpool_limits
 
 from uavdamp.benchmark import scoring
-from uavdamp.benchmark.runner import Runner, case_of, plant_params
+from uavdamp.benchmark.runner import Runner, case_of, plant_params, run_key
 from uavdamp.benchmark.scoring import J_CRITERIA, RESOURCES
 from uavdamp.benchmark.tuning import TUNED_CONTROLLERS, merge_tuned, tune, tuned_at
 from uavdamp.camera.criteria import CRITERIA, FAMILIES, PHASED, family_of
@@ -163,10 +165,12 @@ def _tuned_on(name: str, options: BenchmarkOptions) -> list[str]:
     return [found[c] for c in J_CRITERIA]
 
 
-def _context(runner, case, stiffness, tuned, criterion):
+def _context(runner, case, stiffness, tuned, criterion, name: str):
+    """The strategy context of controller `name`'s run tuned for `criterion` (None: untuned); the clairvoyant's
+    objective set by the criterion's family (the one factory that reads it)."""
     first = runner.options.tuning.criteria[0]  # an untuned law sees the first criterion's (it reads none of them)
     ctx = runner.context(case, stiffness, tuned_at(tuned, stiffness, first if criterion is None else criterion))
-    if criterion is not None and family_of(criterion) in BOUND_OF:
+    if name == "clairvoyant" and criterion is not None and family_of(criterion) in BOUND_OF:
         o = runner.options
         clairvoyant = dataclasses.replace(o.clairvoyant, criterion=BOUND_OF[family_of(criterion)])
         ctx = dataclasses.replace(ctx, options=dataclasses.replace(o, clairvoyant=clairvoyant))
@@ -193,27 +197,47 @@ def run_scenario(
         **{name: np.full((nc, nk, len(FAMILIES), nd), math.nan) for name in RESOURCES},
     }
     scenario = ds.attrs.get("scenario", "?")
+    done: dict = {}  # run_key -> (criteria, share below range, the half step's J or None): each run once
     with threadpool_limits(1):
         rigid = scoring.response_metrics(runner.rigid.run(*case), options.camera, options.frame_phases)
         for b, stiffness in enumerate(options.stiffness):
             for a, name in enumerate(options.controllers):
                 for criterion, scored in _runs(name, options):
-                    ctx = _context(runner, case, stiffness, tuned, criterion)
+                    ctx = _context(runner, case, stiffness, tuned, criterion, name)
                     where = f"benchmark.controllers {name!r}, scenario {scenario}, K = {stiffness:g} N m-1"
                     with _naming(where):
                         strategy = strategies.build(name, ctx)
                     for d, damper in enumerate(options.dampers):
-                        if runner.runs_with(strategy, damper):
+                        if not runner.runs_with(strategy, damper):
+                            continue
+                        key = run_key(name, damper, ctx)
+                        if key not in done:
                             with _naming(f"{where}, damper {damper}"):
-                                response = runner.run(ctx, strategy, damper)
-                            result = scoring.criteria(response, rigid, options.camera, options.frame_phases)
-                            _store(out, (a, b, d), scored, result)
-                            below = out["demand_below_range"]
-                            below[a, b, d] = np.fmax(below[a, b, d], below_range(response, damper, options))
-                            if half is not None and actuation.is_per_step(strategy.law, params.time_step):
-                                _check_half_step(out, (a, b, d), half, case, stiffness, tuned, criterion, name,
-                                                 damper, result[0], rigid)  # fmt: skip
+                                done[key] = _outcome(runner, half, ctx, strategy, damper, rigid, name)
+                        result, below, j_half = done[key]
+                        _store(out, (a, b, d), scored, result)
+                        out["demand_below_range"][a, b, d] = np.fmax(out["demand_below_range"][a, b, d], below)
+                        if j_half is not None:
+                            tolerance = options.step_check.tolerance
+                            _check_half_step(out, (a, b, d), criterion, name, damper, stiffness, result[0], j_half,
+                                             tolerance)  # fmt: skip
     return _scenario_dataset(ds, out, rigid, options)
+
+
+def _outcome(runner, half, ctx, strategy, damper: str, rigid: dict, name: str) -> tuple:
+    """One run's criteria (`scoring.criteria`), its share of demands below the damper's range, and, for a per-step
+    law with the step check on (`half`: the runner at half the step), the half step's J (else None)."""
+    options = runner.options
+    response = runner.run(ctx, strategy, damper)
+    result = scoring.criteria(response, rigid, options.camera, options.frame_phases)
+    j_half = None
+    if half is not None and actuation.is_per_step(strategy.law, runner.params.time_step):
+        half_ctx = dataclasses.replace(
+            half.context(ctx.case_input, ctx.stiffness, ctx.tuned.unread()), options=ctx.options
+        )
+        half_run = half.run(half_ctx, strategies.build(name, half_ctx), damper)
+        j_half = scoring.criteria(half_run, rigid, options.camera, 1)[0]
+    return result, below_range(response, damper, options), j_half
 
 
 @contextlib.contextmanager
@@ -254,16 +278,15 @@ def _half_step(params):
     return dataclasses.replace(params, solver=solver)
 
 
-def _check_half_step(out, at, half, case, stiffness, tuned, criterion, name, damper, j_step, rigid) -> None:
-    """The law rerun at half the step: |J(h) - J(h/2)| over the criteria its run scores, stored and checked."""
-    ctx = _context(half, case, stiffness, tuned, criterion)
-    j_half = scoring.criteria(half.run(ctx, strategies.build(name, ctx), damper), rigid, ctx.options.camera, 1)[0]
+def _check_half_step(out, at, criterion, name, damper, stiffness, j_step, j_half, tolerance: float) -> None:
+    """|J(h) - J(h/2)| over the criteria the run scores (its family's, or all untuned), stored and checked against
+    benchmark.step_check.tolerance."""
     scored = [c for c in (J_CRITERIA if criterion is None else FAMILIES[family_of(criterion)]) if c not in PHASED]
     difference = actuation.step_difference(j_step, j_half, scored)
     a, b, d = at
     out["step_difference"][a, b, d] = np.fmax(out["step_difference"][a, b, d], difference)
     where = f"{damper} damper, K = {stiffness:g} N/m" + (f", tuned on {criterion}" if criterion else "")
-    actuation.check_step(difference, half.options.step_check.tolerance, name, where)
+    actuation.check_step(difference, tolerance, name, where)
 
 
 def _scenario_dataset(ds, out: dict, rigid: dict, options: BenchmarkOptions) -> xr.Dataset:

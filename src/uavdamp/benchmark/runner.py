@@ -3,6 +3,7 @@
     case_of(ds)                    (time s, MountMotion) of a scenario's input dataset
     Runner(params, options, ...)   the isolated and rigid linear plants: `context` for a scenario and K, `run` of a
                                    strategy under a damper (ideal, lagged, MR: `uavdamp.damping.actuation`)
+    run_key(name, damper, ctx)     what a run depends on in one scenario, so that a repeated run is run once
     plant_params(params, options)  the platform parameters at the benchmark's solver step
 
 Used by the per-criterion tuning (`uavdamp.benchmark.tuning`) and the loop over scenarios (`uavdamp.benchmark.loop`).
@@ -11,6 +12,7 @@ Used by the per-criterion tuning (`uavdamp.benchmark.tuning`) and the loop over 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 
 import xarray as xr
 
@@ -26,6 +28,49 @@ def case_of(ds: xr.Dataset) -> tuple:
     return ds.time.values, MountMotion(ds.mount_displacement.values, ds.mount_rotation.values)
 
 
+class ReadTuned(Mapping):
+    """Tuned parameters {name: value} that record which of them a strategy factory reads (looked up, tested with
+    `in`, or all of them where it iterates): with the controller, damper and K, what its run depends on."""
+
+    def __init__(self, values: dict):
+        self._values, self.read = dict(values), {}
+
+    def __getitem__(self, key):
+        value = self._values[key]
+        self.read[key] = value
+        return value
+
+    def get(self, key, default=None):
+        self.read[key] = self._values.get(key, _ABSENT)
+        return self._values.get(key, default)
+
+    def __contains__(self, key) -> bool:
+        self.read[key] = self._values.get(key, _ABSENT)
+        return key in self._values
+
+    def __iter__(self):
+        self.read.update(self._values)
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def unread(self) -> dict:
+        """The parameters as a plain dict (taking it records nothing)."""
+        return dict(self._values)
+
+
+_ABSENT = "(absent)"  # what `ReadTuned.read` holds for a parameter asked for and not found
+
+
+def run_key(name: str, damper: str, ctx: strategies.Context) -> tuple:
+    """What a run of controller `name` (built on `ctx`, a `Runner.context`) depends on in one scenario: the damper,
+    K, the tuned parameters its factory read and the clairvoyant's objective. A tuned law often gets the same
+    parameters for two criterion families (a range's end, or the same candidate): the two are one run."""
+    read = tuple(sorted(ctx.tuned.read.items()))
+    return name, damper, ctx.stiffness, read, ctx.options.clairvoyant.criterion
+
+
 class Runner:
     """The plants of one platform (isolated and rigid linear plants) and the damper models of the benchmark."""
 
@@ -35,6 +80,8 @@ class Runner:
         self.rigid = LinearPlant.from_params(params, mount="rigid")
 
     def context(self, case: tuple, stiffness: float, tuned: dict) -> strategies.Context:
+        """The strategy context for a scenario `case` and K, its tuned parameters a `ReadTuned` (`run_key`)."""
+
         def run(strategy, law=None):  # a trial run (searches): the ideal damper
             plant = self.rigid if strategy.mount == "rigid" else self.isolated
             return plant.run(*case, stiffness=stiffness, law=strategy.law if law is None else law)
@@ -45,7 +92,7 @@ class Runner:
             self.model,
             float(stiffness),
             run,
-            tuned=tuned,
+            tuned=ReadTuned(tuned),
             table=self.table,
             case_input=case,
             linear=self.isolated,
