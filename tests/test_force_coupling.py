@@ -183,3 +183,35 @@ def test_the_compiled_exact_step_is_numpys_solution_of_the_two_by_two_system():
             np.testing.assert_allclose(force[start : start + steps], want_f, rtol=0, atol=tol * np.abs(want_f).max())
             np.testing.assert_allclose(z[start:], want_z, rtol=0, atol=tol * np.abs(want_z).max())
             np.testing.assert_allclose(end, want_end, rtol=0, atol=tol * np.abs(want_end).max())
+
+
+@pytest.mark.parametrize("damper", ["lagged", "mr"])
+def test_the_law_observes_the_isolator_state_the_run_reports(damper):
+    """Every step a law decided every step sees the stroke, the stroke rate, the mount's velocity and the base's
+    absolute velocity of the state the run reached, as the response reports them afterwards (computed from the
+    stored states: an independent path), to rounding; its demand switching with the stroke rate's sign (so that the
+    damper's force moves the state)."""
+    seen = []
+
+    def record(observation):
+        seen.append(np.concatenate([observation.stroke, observation.stroke_rate, observation.mount_velocity]))
+        return 80.0 if observation.stroke_rate[0] > 0 else 5.0
+
+    plant = LinearPlant.from_params(PARAMS)
+    h = PARAMS.time_step
+    t = np.arange(0.0, 0.6 + h / 2, h)
+    mount = MountMotion.planar(1e-3 * np.sin(2 * np.pi * 7.0 * t), 0.5e-3 * np.sin(2 * np.pi * 5.0 * t))
+    make = {
+        "lagged": lambda: actuation.Lag(0.02),
+        "mr": lambda: actuation.MRDamper(actuation.MRSpec.build((5.0, 30.0), 1e-3)),
+    }
+    law = FunctionLaw(record, update_period=h)
+    out = force_coupling.run(plant, t, mount, stiffness=1000.0, law=law, damper=make[damper]())
+    seen = np.array(seen)
+    assert seen.shape == (t.size - 1, 6)
+    stroke, rate = out.isolator_stroke.values[:, :-1], out.isolator_velocity.values[:, :-1]
+    for got, want in ((seen[:, :2].T, stroke), (seen[:, 2:4].T, rate)):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.abs(want).max())
+    mount_rate = np.gradient(out.mount_displacement.values[1:3], h, axis=1)[:, :-1]
+    np.testing.assert_allclose(seen[:, 4:].T, mount_rate, rtol=0, atol=1e-9 * np.abs(mount_rate).max())
+    assert {80.0, 5.0} <= set(out.damping.values[:-1].tolist())  # the law switched: the state was moved by it

@@ -159,7 +159,7 @@ def run(plant, time, mount, *, stiffness: float, law, damper: ForceDamper) -> xr
     damper.reset(end[:2])
     for start in range(0, steps, per_update):  # the law's update times; its demand held until the next
         stop = min(start + per_update, steps)
-        applied[start:stop] = plant._demand(law, start, data, z[start])
+        applied[start:stop] = plant._demand(law, start, data, z[start], end.copy())  # end: the stroke and rate now
         damper.command(applied[start])
         if linear:  # the exact step, compiled over the held interval
             gains = [damper.rate_gain(h) for _ in range(start, stop)]

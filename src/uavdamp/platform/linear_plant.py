@@ -322,15 +322,17 @@ class LinearPlant:
             self._lifts[key] = lift(self.step_map(stiffness, damping)[1].phi, _BLOCK)
         return self._lifts[key]
 
-    def _demand(self, law, n: int, run: dict, z: np.ndarray) -> float:
-        """The law's demand at grid point n (state z at t_n), clipped, with the Observation the Exudyn plant gives."""
-        if "isolator" not in run:  # the isolator rows of tq and tv stacked, and the inputs' share, once per run
-            model, iso = self.model, [self.model.lin.link_index[k] for k in _ISOLATOR]
-            pq = model.pq[iso]
-            share = np.hstack([run["u"] @ pq.T, run["rate"] @ pq.T])
-            run["isolator"] = (np.vstack([model.tq[iso], model.tv[iso]]), share)
-        rows, share = run["isolator"]
-        isolator = rows @ z + share[n]  # stroke (y, z), then its rate
+    def _demand(self, law, n: int, run: dict, z: np.ndarray, isolator: np.ndarray | None = None) -> float:
+        """The law's demand at grid point n (state z at t_n), clipped, with the Observation the Exudyn plant gives;
+        `isolator` (4,): the stroke (y, z) m and its rate m s-1 at t_n where the caller has them (else from z)."""
+        if isolator is None:
+            if "isolator" not in run:  # the isolator rows of tq and tv stacked, and the inputs' share, once per run
+                model, iso = self.model, [self.model.lin.link_index[k] for k in _ISOLATOR]
+                pq = model.pq[iso]
+                share = np.hstack([run["u"] @ pq.T, run["rate"] @ pq.T])
+                run["isolator"] = (np.vstack([model.tq[iso], model.tv[iso]]), share)
+            rows, share = run["isolator"]
+            isolator = rows @ z + share[n]  # stroke (y, z), then its rate
         mount_v = run["rate"][n][1:3].copy()
         observation = Observation(
             t_now=float(run["time"][n]),
