@@ -277,9 +277,10 @@ def test_a_lagged_schedule_is_converged_in_the_step(inputs, params, options):
 
 def test_a_run_repeated_across_criterion_families_is_run_once_and_scored_for_each(monkeypatch, inputs, params, options):
     """Tuned laws often get the same parameters for two families (here the on-off skyhook's c_max 20 N s/m for the
-    second and third, the passive C 5 N s/m for all three): each distinct run is made once (counted), and every
-    family's J is that run's, as a run of the law built here directly gives it (an independent path: the law, the
-    lagged damper and the criteria without the benchmark's loop)."""
+    second and third, the passive C 5 N s/m for all three), and the rigid mount has no damper: each distinct run is
+    made once (counted), and every family's J is that run's, as a run of the law built here directly gives it (an
+    independent path: the law, the lagged damper and the criteria without the benchmark's loop); the rigid mount's J
+    is 1 for every damper (its own reference)."""
     import xarray as xr
 
     from uavdamp.benchmark import scoring
@@ -306,7 +307,7 @@ def test_a_run_repeated_across_criterion_families_is_run_once_and_scored_for_eac
     monkeypatch.setattr(Runner, "run", lambda self, ctx, s, d: counted.append((s.name, d)) or real_run(self, ctx, s, d))
     ds = benchmark.run_scenario(inputs["sweep"], tuned, params, opts).isel(scenario=0, stiffness=0)
     assert sorted(counted) == sorted(
-        [("rigid", "ideal"), ("rigid", "lagged"), ("passive_tuned", "ideal"), ("passive_tuned", "lagged")]
+        [("rigid", "ideal"), ("passive_tuned", "ideal"), ("passive_tuned", "lagged")]
         + [("skyhook_on_off", "lagged")] * 2
     )
     runner = Runner(benchmark.plant_params(params, opts), opts)
@@ -319,6 +320,8 @@ def test_a_run_repeated_across_criterion_families_is_run_once_and_scored_for_eac
         for scored in FAMILIES[family_of(criterion)]:
             got = float(ds.J.sel(controller="skyhook_on_off", criterion=scored, damper="lagged"))
             assert got == j[scored], (criterion, scored)
+    rigid_j = ds.J.sel(controller="rigid", criterion=[c for c in ds.criterion.values if c in j])
+    np.testing.assert_allclose(rigid_j.values, 1.0, rtol=1e-12)
 
 
 def test_the_tuned_parameters_record_what_a_factory_reads():

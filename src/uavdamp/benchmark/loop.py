@@ -210,7 +210,7 @@ def run_scenario(
                     for d, damper in enumerate(options.dampers):
                         if not runner.runs_with(strategy, damper):
                             continue
-                        key = run_key(name, damper, ctx)
+                        key = run_key(name, damper, ctx, strategy)
                         if key not in done:
                             with _naming(f"{where}, damper {damper}"):
                                 done[key] = _outcome(runner, half, ctx, strategy, damper, rigid, name)

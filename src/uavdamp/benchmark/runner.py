@@ -63,10 +63,13 @@ class ReadTuned(Mapping):
 _ABSENT = "(absent)"  # what `ReadTuned.read` holds for a parameter asked for and not found
 
 
-def run_key(name: str, damper: str, ctx: strategies.Context) -> tuple:
-    """What a run of controller `name` (built on `ctx`, a `Runner.context`) depends on in one scenario: the damper,
-    K, the tuned parameters its factory read and the clairvoyant's objective. A tuned law often gets the same
-    parameters for two criterion families (a range's end, or the same candidate): the two are one run."""
+def run_key(name: str, damper: str, ctx: strategies.Context, strategy: strategies.Strategy) -> tuple:
+    """What a run of controller `name` (`strategy`, built on `ctx`, a `Runner.context`) depends on in one scenario:
+    the damper, K, the tuned parameters its factory read and the clairvoyant's objective; on the rigid mount, nothing
+    (no damper, no K). A tuned law often gets the same parameters for two criterion families (a range's end, or the
+    same candidate): the two are one run."""
+    if strategy.mount == "rigid":
+        return (name, "rigid mount")
     read = tuple(sorted(ctx.tuned.read.items()))
     return name, damper, ctx.stiffness, read, ctx.options.clairvoyant.criterion
 
