@@ -324,6 +324,59 @@ def test_a_run_repeated_across_criterion_families_is_run_once_and_scored_for_eac
     np.testing.assert_allclose(rigid_j.values, 1.0, rtol=1e-12)
 
 
+def test_a_law_reading_its_tuned_parameter_while_it_runs_is_not_shared_wrongly(monkeypatch, inputs, params, options):
+    """A factory that hands `Context.tuned` to its law, which reads it only while it runs: the run's key cannot name
+    the parameter, so the run's full record decides (`ReadTuned.agrees`). Equal values share a run, a different one
+    is run again (counted), and each family's J is that of a constant law at its own value (built directly)."""
+    import xarray as xr
+
+    from uavdamp.benchmark import scoring
+    from uavdamp.benchmark.runner import Runner, case_of
+    from uavdamp.benchmark.tuning import TUNED_CONTROLLERS
+    from uavdamp.camera.criteria import FAMILIES, family_of
+    from uavdamp.damping import laws
+    from uavdamp.study import strategies
+
+    class LateReader:
+        name, update_period = "late_reader", None
+
+        def __init__(self, tuned):
+            self.tuned = tuned
+
+        def reset(self):
+            pass
+
+        def __call__(self, observation):
+            return self.tuned["late_c"]
+
+    name = "late_reader_test"
+    if name not in strategies.REGISTRY:
+        strategies.register(name)(lambda ctx: strategies.Strategy(name, "isolated", LateReader(ctx.tuned)))
+    opts = replace(options, controllers=(name,), stiffness=(10.0,), dampers=("ideal",), frame_phases=1, time_step=2e-3)
+    families, values = list(opts.tuning.criteria), [5.0, 5.0, 50.0]
+    tuned = xr.Dataset(
+        {"late_c": (("tuned_for", "stiffness"), [[v] for v in values])},
+        coords={"tuned_for": families, "stiffness": [10.0]},
+    )
+    counted = []
+    real_run = Runner.run
+    monkeypatch.setattr(Runner, "run", lambda self, ctx, s, d: counted.append(s.name) or real_run(self, ctx, s, d))
+    TUNED_CONTROLLERS.add(name)  # tuned per family, as a plug-in's register_tuned makes it
+    try:
+        ds = benchmark.run_scenario(inputs["sweep"], tuned, params, opts).isel(scenario=0, stiffness=0, damper=0)
+    finally:
+        TUNED_CONTROLLERS.discard(name)
+    assert counted == [name, name]
+    runner = Runner(benchmark.plant_params(params, opts), opts)
+    case = case_of(inputs["sweep"])
+    rigid = scoring.response_metrics(runner.rigid.run(*case), opts.camera, 1)
+    for criterion, c in zip(families, values, strict=True):
+        direct = strategies.Strategy("direct", "isolated", laws.Constant(c))
+        j = scoring.criteria(runner.run(runner.context(case, 10.0, {}), direct, "ideal"), rigid, opts.camera, 1)[0]
+        for scored in FAMILIES[family_of(criterion)]:
+            assert float(ds.J.sel(controller=name, criterion=scored)) == j[scored], (criterion, scored)
+
+
 def test_the_tuned_parameters_record_what_a_factory_reads():
     """A run's key holds the tuned parameters its factory looked up, tested for (present or not) or iterated over."""
     from uavdamp.benchmark.runner import ReadTuned

@@ -197,7 +197,7 @@ def run_scenario(
         **{name: np.full((nc, nk, len(FAMILIES), nd), math.nan) for name in RESOURCES},
     }
     scenario = ds.attrs.get("scenario", "?")
-    done: dict = {}  # run_key -> (criteria, share below range, the half step's J or None): each run once
+    done: dict = {}  # run_key -> ((criteria, share below range, half step's J or None), tuned read): each run once
     with threadpool_limits(1):
         rigid = scoring.response_metrics(runner.rigid.run(*case), options.camera, options.frame_phases)
         for b, stiffness in enumerate(options.stiffness):
@@ -211,10 +211,10 @@ def run_scenario(
                         if not runner.runs_with(strategy, damper):
                             continue
                         key = run_key(name, damper, ctx, strategy)
-                        if key not in done:
+                        if key not in done or not ctx.tuned.agrees(done[key][1]):  # run_key's docstring
                             with _naming(f"{where}, damper {damper}"):
-                                done[key] = _outcome(runner, half, ctx, strategy, damper, rigid, name)
-                        result, below, j_half = done[key]
+                                done[key] = (_outcome(runner, half, ctx, strategy, damper, rigid, name), ctx.tuned.read)
+                        result, below, j_half = done[key][0]
                         _store(out, (a, b, d), scored, result)
                         out["demand_below_range"][a, b, d] = np.fmax(out["demand_below_range"][a, b, d], below)
                         if j_half is not None:

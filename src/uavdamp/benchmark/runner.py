@@ -3,7 +3,7 @@
     case_of(ds)                    (time s, MountMotion) of a scenario's input dataset
     Runner(params, options, ...)   the isolated and rigid linear plants: `context` for a scenario and K, `run` of a
                                    strategy under a damper (ideal, lagged, MR: `uavdamp.damping.actuation`)
-    run_key(name, damper, ctx)     what a run depends on in one scenario, so that a repeated run is run once
+    run_key(name, damper, ctx, s)  what a run depends on in one scenario, so that a repeated run is run once
     plant_params(params, options)  the platform parameters at the benchmark's solver step
 
 Used by the per-criterion tuning (`uavdamp.benchmark.tuning`) and the loop over scenarios (`uavdamp.benchmark.loop`).
@@ -59,6 +59,10 @@ class ReadTuned(Mapping):
         """The parameters as a plain dict (taking it records nothing)."""
         return dict(self._values)
 
+    def agrees(self, read: dict) -> bool:
+        """True if every parameter of `read` (another run's `read`) has the same value here (or is absent in both)."""
+        return all(self._values.get(k, _ABSENT) == v for k, v in read.items())
+
 
 _ABSENT = "(absent)"  # what `ReadTuned.read` holds for a parameter asked for and not found
 
@@ -67,7 +71,8 @@ def run_key(name: str, damper: str, ctx: strategies.Context, strategy: strategie
     """What a run of controller `name` (`strategy`, built on `ctx`, a `Runner.context`) depends on in one scenario:
     the damper, K, the tuned parameters its factory read and the clairvoyant's objective; on the rigid mount, nothing
     (no damper, no K). A tuned law often gets the same parameters for two criterion families (a range's end, or the
-    same candidate): the two are one run."""
+    same candidate): the two are one run. A law that reads `Context.tuned` while it runs (after the key was made)
+    is caught by `ReadTuned.agrees` on the run's full record (`uavdamp.benchmark.loop.run_scenario`)."""
     if strategy.mount == "rigid":
         return (name, "rigid mount")
     read = tuple(sorted(ctx.tuned.read.items()))
