@@ -9,7 +9,8 @@ G the stroke's response to a unit force held over the step (Cramer's rule on the
 the last bits of a run can differ from the same steps in numpy; tests/test_force_coupling.py compares both).
 
 One call steps the whole held interval: a law decided every 0.5 s on a 2 ms step is 250 steps in one call, where
-the loop in Python cost about 7 us a step (measured 2026-12-07: `benchmarks/bench_coupling.py`).
+the loop in Python cost 6-12 us a step, the compiled one about 1.6 us (measured 2026-12-07, the machine noisy:
+`benchmarks/bench_coupling.py`).
 """
 
 from __future__ import annotations
