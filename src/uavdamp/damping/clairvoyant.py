@@ -8,6 +8,11 @@ better. The criterion is named (`OBJECTIVES`), one of `uavdamp.camera.criteria` 
 variances (1/N, whole run) of output rows of the plant: "displacement_std" = sqrt(var y + var z) of the camera
 displacement (the study's criterion) or "los_std" = sqrt(var yaw + var pitch). Partial runs are ranked by the same
 expression over the samples so far (a heuristic: the variance of a prefix).
+
+The plant is linear in a period's start state, so each candidate's period is run once from a zero state (its forced
+response) and every schedule in the beam adds its own free response, C phi^k z0, all of them in one product: the
+same sums as running each schedule on its own, to rounding (tests/test_clairvoyant.py checks an exhaustive beam and a
+beam of one against runs of the plant).
 """
 
 from __future__ import annotations
@@ -37,16 +42,30 @@ class ClairvoyantSchedule:
 
 
 @dataclass
-class _Node:
-    values: tuple
-    state: np.ndarray
-    s1: np.ndarray  # per row: sum of the output so far
-    s2: np.ndarray  # per row: sum of its square
+class _Beam:
+    """Partial schedules side by side: values (B, periods so far), states (B, ns) at the next period's start, and
+    per schedule and output row the sums of the output so far (s1) and of its square (s2) over n samples."""
+
+    values: np.ndarray
+    states: np.ndarray
+    s1: np.ndarray
+    s2: np.ndarray
     n: int
 
-    def cost(self) -> float:
+    def costs(self) -> np.ndarray:
         mean = self.s1 / self.n
-        return float(np.sqrt(max(float(np.sum(self.s2 / self.n - mean**2)), 0.0)))
+        return np.sqrt(np.maximum(np.sum(self.s2 / self.n - mean**2, axis=1), 0.0))
+
+
+@dataclass(frozen=True)
+class _Period:
+    """One update period under one candidate C, from a zero start state: the states (len + 1, ns), the output rows
+    (samples, rows); and from a start state z0 the outputs add free[k] @ z0 and the end state jump @ z0."""
+
+    forced: np.ndarray
+    out: np.ndarray
+    free: np.ndarray
+    jump: np.ndarray
 
 
 def schedule(
@@ -86,38 +105,61 @@ def schedule(
     lifts = {c: lift(maps[c].phi, _BLOCK) for c in candidates} if per_update >= 2 * _BLOCK else {}
     steps = grid.size - 1
     starts = list(range(0, steps, per_update))
+    powers = {c: _powers(maps[c].phi, per_update) for c in candidates}  # phi^0 .. phi^per_update
+    free = {c: out_map[0] @ powers[c] for c in candidates}  # the output rows' free response: (per_update + 1, rows, ns)
 
-    def extend(node: _Node, c: float, start: int) -> _Node:
+    def period(c: float, start: int) -> _Period:
+        """Candidate c over the period from grid step `start`, from a zero state (linear: any start adds free)."""
         end = min(start + per_update, steps)
-        states = propagate(maps[c], node.state, u[start:end], slope[start:end], lifts.get(c))
+        forced = propagate(maps[c], np.zeros(plant.model.n_states), u[start:end], slope[start:end], lifts.get(c))
         last = end + 1 if end == steps else end  # the final grid point belongs to the last period
-        out = states[: last - start] @ out_map[0].T + u[start:last] @ out_map[1].T + rate[start:last] @ out_map[2].T
-        return _Node(
-            node.values + (c,),
-            states[end - start],
-            node.s1 + out.sum(axis=0),
-            node.s2 + (out**2).sum(axis=0),
-            node.n + out.shape[0],
-        )
+        out = forced[: last - start] @ out_map[0].T + u[start:last] @ out_map[1].T + rate[start:last] @ out_map[2].T
+        return _Period(forced, out, free[c][: last - start], powers[c][end - start])
 
-    root = _Node((), plant.model.initial_state(u[0], slope[0]), np.zeros(len(rows)), np.zeros(len(rows)), 0)
-    beam = [root]
+    def extend(beam: _Beam, c: float, p: _Period) -> _Beam:
+        """Every schedule of `beam` continued with C = c over period p."""
+        out = np.einsum("krs,bs->bkr", p.free, beam.states) + p.out
+        values = np.column_stack([beam.values, np.full(len(beam.values), c)])
+        states = beam.states @ p.jump.T + p.forced[-1]
+        s1, s2 = beam.s1 + out.sum(axis=1), beam.s2 + (out**2).sum(axis=1)
+        return _Beam(values, states, s1, s2, beam.n + p.out.shape[0])
+
+    z0 = plant.model.initial_state(u[0], slope[0])
+    beam = _Beam(np.zeros((1, 0)), z0[None, :], np.zeros((1, len(rows))), np.zeros((1, len(rows))), 0)
+    constants = [beam] * candidates.size  # every constant schedule, one per candidate
     for start in starts:
-        children = [extend(node, c, start) for node in beam for c in candidates]
-        children.sort(key=lambda n: (n.cost(), n.values))
-        beam = children[:beam_width]
-    constant_costs = []
-    for c in candidates:
-        node = root
-        for start in starts:
-            node = extend(node, c, start)
-        constant_costs.append(node.cost())
-    best = beam[0]
+        periods = [period(c, start) for c in candidates]
+        children = _concat([extend(beam, c, p) for c, p in zip(candidates, periods, strict=True)])
+        order = np.lexsort((*children.values.T[::-1], children.costs()))  # by cost, then by the values in order
+        beam = _take(children, order[:beam_width])
+        constants = [extend(b, c, p) for b, c, p in zip(constants, candidates, periods, strict=True)]
+    constant_costs = _concat(constants).costs()
+    best_cost = float(beam.costs()[0])
     k = int(np.argmin(constant_costs))
-    if constant_costs[k] < best.cost():
+    if constant_costs[k] < best_cost:
         values, cost = np.full(len(starts), candidates[k]), float(constant_costs[k])
     else:
-        values, cost = np.asarray(best.values), best.cost()
+        values, cost = beam.values[0], best_cost
     if not math.isfinite(cost):
         raise ValueError("clairvoyant: non-finite criterion")
     return ClairvoyantSchedule(values, cost, candidates, np.asarray(constant_costs), criterion)
+
+
+def _concat(beams: list[_Beam]) -> _Beam:
+    """The schedules of `beams` (all over the same periods) in one beam, in order."""
+    fields = (np.concatenate([getattr(b, f) for b in beams]) for f in ("values", "states", "s1", "s2"))
+    return _Beam(*fields, beams[0].n)
+
+
+def _take(beam: _Beam, index: np.ndarray) -> _Beam:
+    """The schedules `index` of `beam`."""
+    return _Beam(beam.values[index], beam.states[index], beam.s1[index], beam.s2[index], beam.n)
+
+
+def _powers(phi: np.ndarray, n: int) -> np.ndarray:
+    """phi^0 .. phi^n: (n + 1, ns, ns)."""
+    out = np.empty((n + 1, *phi.shape))
+    out[0] = np.eye(phi.shape[0])
+    for k in range(1, n + 1):
+        out[k] = out[k - 1] @ phi
+    return out
