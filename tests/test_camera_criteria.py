@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
 from conftest import camera_of, load_config
 
 from uavdamp.benchmark import scoring
@@ -108,3 +109,28 @@ def test_every_consumer_carries_the_registry_definition():
     for name in ("los_std", "los_peak"):
         assert stats[name][1:] == (cc.CRITERIA[name].units, cc.CRITERIA[name].long_name)
     assert set(OBJECTIVES) <= set(cc.CRITERIA)
+
+
+def test_the_benchmarks_phased_criteria_are_each_frame_clocks_own():
+    """`scoring.response_metrics` gives each PHASED criterion as the mean, lowest and highest over the frame-clock
+    starts, each start's value the criterion of the record scored on its own (`camera_criteria` from the arrays:
+    the image path made again per start), on a record whose yaw, pitch, y and z all differ."""
+    camera = camera_of(load_config()["camera"])
+    disp = np.stack([1e-3 * np.sin(2 * np.pi * 7 * T), 4e-4 * np.sin(2 * np.pi * 11 * T + 1.0)])
+    yaw, pitch = 1e-3 * np.cos(2 * np.pi * 7 * T), 3e-4 * np.sin(2 * np.pi * 23 * T)
+    response = xr.Dataset(
+        {
+            "camera_displacement": (("axis", "time"), disp),
+            "camera_yaw": ("time", yaw),
+            "camera_pitch": ("time", pitch),
+        },
+        coords={"time": T},
+    )
+    phases, period = 4, 1.0 / camera.frame_rate_hz
+    got = scoring.response_metrics(response, camera, phases)
+    each = [camera_criteria(cc.PHASED, T, disp, yaw, pitch, camera, T[0] + period * k / phases) for k in range(phases)]
+    for name in cc.PHASED:
+        values = [e[name] for e in each]
+        assert got[name] == pytest.approx(np.mean(values), rel=1e-12)
+        assert (got[f"{name}_low"], got[f"{name}_high"]) == (min(values), max(values))
+    assert min(e["blur_p95"] for e in each) < max(e["blur_p95"] for e in each)  # the starts see different frames

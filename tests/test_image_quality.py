@@ -348,3 +348,18 @@ def test_the_batched_exposure_weights_are_the_frames_points_under_a_rolling_shut
     assert shape[0] == frames.blur_px.size == 7  # 0.01 + 6 / 25 + 20 us x 1079 + 4 ms = 0.2756 s <= 0.29
     np.testing.assert_allclose(iq._extent(points), frames.blur_px, rtol=1e-12)
     np.testing.assert_allclose(points[:, 0], iq._interp(time, path, frames.start_s + 20e-6 * 1079 / 2), rtol=1e-12)
+
+
+def test_the_frame_criteria_read_a_given_image_path_as_the_one_they_would_make():
+    """camera_criteria's image_px (a caller's image path of the same arrays, reused over several frame clocks) gives
+    the criteria bit for bit as without it; a different path gives different ones (it is read, not ignored). The
+    angular rate makes a smear of F 0.05 T = 0.41 px a frame (`test_constant_angular_rate_gives_f_omega_t`)."""
+    time = _time(6, 1e-4)
+    _, disp, yaw, pitch = _response(time, yaw=0.05 * time, z=1e-4 * np.sin(300 * time))
+    names, start = ["blur_p95", "unsharp_fraction"], time[0] + 0.3 / FPS
+    camera = _camera(sharp_threshold_px=0.45)
+    made = iq.camera_criteria(names, time, disp, yaw, pitch, camera, start)
+    path = iq.image_displacement_px(camera, yaw, pitch, disp[0], disp[1])
+    assert iq.camera_criteria(names, time, disp, yaw, pitch, camera, start, image_px=path) == made
+    other = iq.camera_criteria(names, time, disp, yaw, pitch, camera, start, image_px=(2 * path[0], path[1]))
+    assert other["blur_p95"] > made["blur_p95"]

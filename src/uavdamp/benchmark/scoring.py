@@ -26,7 +26,7 @@ import xarray as xr
 
 from uavdamp.camera.criteria import CRITERIA, PHASED
 from uavdamp.camera.image_quality import camera_criteria
-from uavdamp.camera.optics import CameraModel
+from uavdamp.camera.optics import CameraModel, image_displacement_px
 
 J_CRITERIA = tuple(CRITERIA)
 RESOURCES = {
@@ -45,11 +45,11 @@ def response_metrics(response: xr.Dataset, camera: CameraModel, phases: int = 1)
     yaw, pitch = response.camera_yaw.values, response.camera_pitch.values
     whole = [name for name in J_CRITERIA if name not in PHASED]
     out = camera_criteria(whole, t, disp, yaw, pitch)
-    period = 1.0 / camera.frame_rate_hz
+    period, image_px = 1.0 / camera.frame_rate_hz, image_displacement_px(camera, yaw, pitch, disp[0], disp[1])
     per_phase = [
-        camera_criteria(PHASED, t, disp, yaw, pitch, camera, start_s=float(t[0]) + period * k / phases)
+        camera_criteria(PHASED, t, disp, yaw, pitch, camera, float(t[0]) + period * k / phases, image_px=image_px)
         for k in range(phases)
-    ]
+    ]  # one image path, each phase its own frame clock on it
     for name in PHASED:
         values = [phase[name] for phase in per_phase]
         out |= {name: float(np.mean(values)), f"{name}_low": min(values), f"{name}_high": max(values)}

@@ -315,10 +315,13 @@ def camera_criteria(
     camera: CameraOptics | None = None,
     start_s: float | None = None,
     end_s: float | None = None,
+    *,
+    image_px: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> dict[str, float]:
     """The criteria `names` (`uavdamp.camera.criteria`) of a response's arrays over [start_s, end_s] (default: the
     record), the frame clock starting at the window's start; the frame criteria need a `camera` (a `CameraOptics`
-    without a sharp threshold gives unsharp_fraction NaN)."""
+    without a sharp threshold gives unsharp_fraction NaN). image_px: the arrays' image path (u, v) px
+    (`image_displacement_px`) where the caller has it (several frame clocks on one record), else made here."""
     t = _check_time(time, ("camera_yaw", camera_yaw), ("camera_pitch", camera_pitch))
     start, end = _span(t, start_s, end_s)
     keep = window_mask(t, start, end)
@@ -329,7 +332,10 @@ def camera_criteria(
     if any(c.uses == "frames" for c in chosen):
         if camera is None:
             raise ValueError(f"criteria {[c.name for c in chosen if c.uses == 'frames']} need a camera")
-        frames = frame_metrics(t, camera_displacement, camera_yaw, camera_pitch, camera, start, end)
+        if image_px is None:
+            frames = frame_metrics(t, camera_displacement, camera_yaw, camera_pitch, camera, start, end)
+        else:
+            frames = frames_from_image_path(t, *image_px, camera, start, end)
     args = {
         "displacement": lambda: (np.asarray(camera_displacement, dtype=float)[:, keep],),
         "angles": lambda: (np.asarray(camera_yaw, dtype=float)[keep], np.asarray(camera_pitch, dtype=float)[keep]),
