@@ -122,6 +122,8 @@ def main() -> None:
     chosen = args.only or ["study", "benchmark"]
     revs = ["HEAD"] + ([args.vs] if args.vs else [])
     labels = {rev: short(rev) for rev in revs}
+    if len(set(labels.values())) < len(revs):
+        sys.exit(f"--vs {args.vs}: names HEAD's own commit ({labels['HEAD']}); give another to compare with")
     print(f"{' vs '.join(labels.values())}, {os.cpu_count()} cores on the machine, -j{args.cores}")
     header = ("figure", "commit", "run", "wall s", "cpu s", "yardstick s", "yardsticks", "load before", "load after")
     print("{:<10} {:>8} {:>4} {:>8} {:>8} {:>12} {:>11} {:>12} {:>11}".format(*header))

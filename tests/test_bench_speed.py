@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import subprocess
+import sys
 
 import pytest
 from conftest import ROOT, load_module
@@ -39,3 +40,14 @@ def test_a_clone_at_a_commit_holds_that_commit_and_a_bad_one_is_named(tmp_path, 
     assert bs.short("HEAD~1") == _git(repo, "rev-parse", "--short", "HEAD~1")
     with pytest.raises(SystemExit, match="--vs no-such-commit: not a commit of"):
         bs.short("no-such-commit")
+
+
+def test_a_vs_that_names_heads_own_commit_is_refused_before_any_clone():
+    """Comparing HEAD with itself would time one commit twice and call it a pair: refused, naming the commit."""
+    done = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks/bench_speed.py"), "--only", "tests", "--vs", "HEAD"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode != 0 and "--vs HEAD: names HEAD's own commit" in done.stderr

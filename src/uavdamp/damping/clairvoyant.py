@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from uavdamp.platform.linear_plant import OUTPUTS
-from uavdamp.platform.statespace import lift, propagate
+from uavdamp.platform.statespace import free_response_rows, lift, propagate
 
 OBJECTIVES = {"displacement_std": ("camera_y", "camera_z"), "los_std": ("yaw", "pitch")}  # name -> output rows
 _BLOCK = 32
@@ -105,8 +105,7 @@ def schedule(
     lifts = {c: lift(maps[c].phi, _BLOCK) for c in candidates} if per_update >= 2 * _BLOCK else {}
     steps = grid.size - 1
     starts = list(range(0, steps, per_update))
-    powers = {c: _powers(maps[c].phi, per_update) for c in candidates}  # phi^0 .. phi^per_update
-    free = {c: out_map[0] @ powers[c] for c in candidates}  # the output rows' free response: (per_update + 1, rows, ns)
+    free = {c: free_response_rows(out_map[0], maps[c].phi, per_update + 1) for c in candidates}  # rows' C phi^k
 
     def period(c: float, start: int) -> _Period:
         """Candidate c over the period from grid step `start`, from a zero state (linear: any start adds free)."""
@@ -114,7 +113,7 @@ def schedule(
         forced = propagate(maps[c], np.zeros(plant.model.n_states), u[start:end], slope[start:end], lifts.get(c))
         last = end + 1 if end == steps else end  # the final grid point belongs to the last period
         out = forced[: last - start] @ out_map[0].T + u[start:last] @ out_map[1].T + rate[start:last] @ out_map[2].T
-        return _Period(forced, out, free[c][: last - start], powers[c][end - start])
+        return _Period(forced, out, free[c][: last - start], np.linalg.matrix_power(maps[c].phi, end - start))
 
     def extend(beam: _Beam, c: float, p: _Period) -> _Beam:
         """Every schedule of `beam` continued with C = c over period p."""
@@ -154,12 +153,3 @@ def _concat(beams: list[_Beam]) -> _Beam:
 def _take(beam: _Beam, index: np.ndarray) -> _Beam:
     """The schedules `index` of `beam`."""
     return _Beam(beam.values[index], beam.states[index], beam.s1[index], beam.s2[index], beam.n)
-
-
-def _powers(phi: np.ndarray, n: int) -> np.ndarray:
-    """phi^0 .. phi^n: (n + 1, ns, ns)."""
-    out = np.empty((n + 1, *phi.shape))
-    out[0] = np.eye(phi.shape[0])
-    for k in range(1, n + 1):
-        out[k] = out[k - 1] @ phi
-    return out
