@@ -135,8 +135,10 @@ def _loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tai
         omega_b = omega_h + r_flap[:, 1] * q_t[f] + r_flap[:, 2] * q_t[f + 1] + r_lag[:, 0] * q_t[f + 2]
         psi = psi0 + 2.0 * math.pi * b / n_b
         harmonic = nu[1] * math.sin(psi) + nu[2] * math.cos(psi)
-        for s in range(n_s):
-            air[s] = wind - (tip_speed * (nu[0] + r_over_radius[s] * harmonic)) * r5[:, 2]
+        for s in range(n_s):  # element by element: a row assignment compiles a shape check's error path (slow)
+            inflow = tip_speed * (nu[0] + r_over_radius[s] * harmonic)
+            for i in range(3):
+                air[s, i] = wind[i] - inflow * r5[i, 2]
         force, moment = _blade(blade, v_h + _cross(omega_h, hinge), omega_b, air, main[3], main[0], main[1],
                                main[2], main_foil, rho)  # fmt: skip
         rotor_force += force
@@ -150,7 +152,8 @@ def _loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tai
     tail_omega = omega_f + r5[:, 1] * q_t[-1]
     tail_air = np.empty((tail.shape[1], 3))
     for s in range(tail.shape[1]):
-        tail_air[s] = wind - tail_vi * r5[:, 1]
+        for i in range(3):
+            tail_air[s, i] = wind[i] - tail_vi * r5[i, 1]
     tail_force, tail_moment = np.zeros(3), np.zeros(3)
     for k in range(tail_frames.shape[0]):
         force, moment = _blade(_mm(tail_rot, tail_frames[k]), tail_v, tail_omega, tail_air, tail_collective + tail[3],
@@ -159,7 +162,8 @@ def _loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tai
         tail_moment += moment
     relative = wind - v_f
     drag = half_drag * math.sqrt(_dot(relative, relative)) * relative
-    out[0:3] = rotor_force + tail_force + drag
+    fuselage_force = rotor_force + tail_force + drag
+    out[0], out[1], out[2] = fuselage_force[0], fuselage_force[1], fuselage_force[2]
     about_cg = about_hub + tail_moment + _cross(hub, rotor_force) + _cross(tail_point, tail_force)
     out[3], out[4], out[5] = _dot(r3[:, 0], about_cg), _dot(r4[:, 1], about_cg), _dot(r5[:, 2], about_cg)
     out[hub_i] = _dot(r5[:, 2], about_hub)

@@ -51,7 +51,10 @@ def _cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_
     estimates = np.empty((k_count, n_runs))
     z, z_next = np.zeros(n_states), np.zeros(n_states)
     for r in range(n_runs):
-        z[:] = 0.0
+        # element loops, not slice assignments: numba compiles a slice assignment with its shape check's error
+        # path, about 3 s for the first in a process (cProfile of the compilation)
+        for i in range(n_states):
+            z[i] = 0.0
         integral, applied, estimate, tilt = hold[r], hold[r], 0.0, 0.0
         for k in range(k_count):
             held[k, r] = applied
@@ -77,5 +80,6 @@ def _cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_
                 for s in range(n_states):
                     total += z[s] * phi_t[s, i]
                 z_next[i] = total + held[k, r] * gamma[i]
-            z[:] = z_next
+            for i in range(n_states):
+                z[i] = z_next[i]
     return held, flags, estimates
