@@ -161,7 +161,8 @@ def _loads(q, q_t, azimuth, hinges, index, main, main_foil, tail, tail_foil, tai
         tail_force += force
         tail_moment += moment
     relative = wind - v_f
-    drag = half_drag * math.sqrt(_dot(relative, relative)) * relative
+    speed = math.sqrt(relative[0] * relative[0] + relative[1] * relative[1] + relative[2] * relative[2])
+    drag = half_drag * speed * relative  # (not `_dot`: a contiguous argument would be a second signature to compile)
     fuselage_force = rotor_force + tail_force + drag
     out[0], out[1], out[2] = fuselage_force[0], fuselage_force[1], fuselage_force[2]
     about_cg = about_hub + tail_moment + _cross(hub, rotor_force) + _cross(tail_point, tail_force)

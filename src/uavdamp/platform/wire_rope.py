@@ -234,7 +234,8 @@ def _steps(wire: WireRope, bank: _Bank, u: np.ndarray, n_c: int, choose, held: b
     held: choose's keys are the same at every sample (asked once; the whole run in one compiled call). The steps
     are `wire_rope_kernel.advance`'s."""
     h_rows, h = bank.h_rows, bank.h
-    n_h, u = h_rows.shape[0], np.ascontiguousarray(np.broadcast_to(u, (n_c, *u.shape[-2:])))
+    # writeable as well as C-ordered: a read-only array (a broadcast view) is another signature, another compilation
+    n_h, u = h_rows.shape[0], np.require(np.broadcast_to(u, (n_c, *u.shape[-2:])), requirements="CW")
     n = u.shape[1]
     slopes = np.diff(u, axis=1) / h
     mount_strokes = u @ h_rows.T  # (n_c, n, n_h): H u
