@@ -99,3 +99,29 @@ def test_a_held_run_in_one_call_is_the_same_run_stepped_sample_by_sample():
     stepped = wire_rope._steps(wire, bank, u, len(keys), lambda k, w_k: keys)
     for a, b in zip(held, stepped, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_every_path_calls_the_kernel_with_one_signature(monkeypatch):
+    """A second signature is a second compilation (seconds in a fresh clone): a held run of one mount motion (its
+    broadcast to the batch a copy), a held batch already as wide as its runs (the broadcast a read-only view of it,
+    as `sine_transmissibility`'s) and a schedule stepped sample by sample give the kernel the same argument types."""
+    from numba import typeof
+
+    from uavdamp.platform import wire_rope_kernel as kernel
+
+    kernel.compile_now()
+    real, seen = kernel.advance, set()
+
+    def spy(*args):
+        seen.add(tuple(typeof(a) for a in args))
+        return real(*args)
+
+    monkeypatch.setattr(kernel, "advance", spy)
+    wire = WireRope(**YIELDING)
+    u, dampings = _batch(0.02)
+    bank = wire_rope._Bank(isolator(), wire, H)
+    keys = [bank.find(c) for c in dampings]
+    wide = np.ascontiguousarray(np.broadcast_to(u, (len(keys), *u.shape)))
+    for mount_input, held in ((u, True), (wide, True), (u, False)):
+        wire_rope._steps(wire, bank, mount_input, len(keys), lambda k, w_k: keys, held=held)
+    assert len(seen) == 1, seen
