@@ -52,7 +52,7 @@ def _cascade(base_loop, f_z, hold, c_gyro, c_force, phi_t, gamma, sensors, tilt_
     z, z_next = np.zeros(n_states), np.zeros(n_states)
     for r in range(n_runs):
         # element loops, not slice assignments: numba compiles a slice assignment with its shape check's error
-        # path, about 3 s for the first in a process (cProfile of the compilation)
+        # path, 2.3 s of this kernel's compilation (docs/getting-started.md: numba)
         for i in range(n_states):
             z[i] = 0.0
         integral, applied, estimate, tilt = hold[r], hold[r], 0.0, 0.0
