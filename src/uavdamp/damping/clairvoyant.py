@@ -106,6 +106,7 @@ def schedule(
     steps = grid.size - 1
     starts = list(range(0, steps, per_update))
     free = {c: free_response_rows(out_map[0], maps[c].phi, per_update + 1) for c in candidates}  # rows' C phi^k
+    jumps = {c: np.linalg.matrix_power(maps[c].phi, per_update) for c in candidates}  # a whole period's state map
 
     def period(c: float, start: int) -> _Period:
         """Candidate c over the period from grid step `start`, from a zero state (linear: any start adds free)."""
@@ -113,7 +114,8 @@ def schedule(
         forced = propagate(maps[c], np.zeros(plant.model.n_states), u[start:end], slope[start:end], lifts.get(c))
         last = end + 1 if end == steps else end  # the final grid point belongs to the last period
         out = forced[: last - start] @ out_map[0].T + u[start:last] @ out_map[1].T + rate[start:last] @ out_map[2].T
-        return _Period(forced, out, free[c][: last - start], np.linalg.matrix_power(maps[c].phi, end - start))
+        jump = jumps[c] if end - start == per_update else np.linalg.matrix_power(maps[c].phi, end - start)
+        return _Period(forced, out, free[c][: last - start], jump)
 
     def extend(beam: _Beam, c: float, p: _Period) -> _Beam:
         """Every schedule of `beam` continued with C = c over period p."""
